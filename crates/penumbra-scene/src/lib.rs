@@ -1,0 +1,27 @@
+//! penumbra-scene: the scene model shared by every backend, and its loaders
+//! (glTF 2.0, OBJ + MTL, the native TOML format).
+//!
+//! Data flows one way: file → [`Scene`] → backend. Loaders validate input and
+//! return a [`SceneError`] that names the file, the place in it and what is
+//! wrong; a loaded `Scene` is well-formed (finite positions, indices in range,
+//! no degenerate triangles, materials and textures that exist).
+
+pub mod camera;
+pub mod error;
+pub mod load;
+pub mod material;
+pub mod mesh;
+pub mod paths;
+pub mod primitives;
+pub mod scene;
+pub mod settings;
+pub mod texture;
+
+pub use camera::{Camera, Projection};
+pub use error::{Location, SceneError};
+pub use load::{LoadOptions, load_scene};
+pub use material::{Material, MaterialId};
+pub use mesh::{Instance, Mesh, MeshId};
+pub use scene::{Scene, SceneLight};
+pub use settings::{IntegratorKind, RenderSettings};
+pub use texture::{Texture, TextureId};

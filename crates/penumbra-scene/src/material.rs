@@ -1,0 +1,54 @@
+//! Materials: a BSDF plus emission, as the loaders produce them.
+
+use crate::texture::TextureId;
+use penumbra_shading::Rgb;
+use penumbra_shading::bsdf::{Bsdf, Lambert};
+
+/// Index of a material in [`crate::Scene::materials`].
+pub type MaterialId = usize;
+
+/// A surface material.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Material {
+    pub name: String,
+    /// The reflection model with its constant parameters.
+    pub bsdf: Bsdf,
+    /// Texture multiplying the base colour / albedo (linear RGB, UV set 0).
+    pub albedo_texture: Option<TextureId>,
+    /// Emitted radiance Le [W/(sr·m²)] from the front side (and the back if
+    /// `double_sided`).
+    pub emission: Rgb,
+    /// Two-sided shading, and emission from both sides.
+    pub double_sided: bool,
+}
+
+impl Material {
+    /// A two-sided Lambertian material with albedo ρ.
+    pub fn lambert(name: impl Into<String>, albedo: Rgb) -> Self {
+        Self {
+            name: name.into(),
+            bsdf: Bsdf::Lambert(Lambert::new(albedo)),
+            albedo_texture: None,
+            emission: Rgb::ZERO,
+            double_sided: true,
+        }
+    }
+
+    /// The default material for objects that name none: grey ρ = 0.8.
+    pub fn default_grey() -> Self {
+        Self::lambert("default", Rgb::splat(0.8))
+    }
+
+    /// A front-side emitter with radiance `le` (black otherwise).
+    pub fn emitter(name: impl Into<String>, le: Rgb) -> Self {
+        Self {
+            emission: le,
+            double_sided: false,
+            ..Self::lambert(name, Rgb::ZERO)
+        }
+    }
+
+    pub fn is_emissive(&self) -> bool {
+        self.emission.max_element() > 0.0
+    }
+}

@@ -1,0 +1,1 @@
+//! Analytic shapes tessellated to triangle meshes (to be written).

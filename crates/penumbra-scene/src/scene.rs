@@ -1,0 +1,78 @@
+//! The scene: what every backend renders.
+
+use crate::camera::Camera;
+use crate::material::Material;
+use crate::mesh::{Instance, Mesh};
+use crate::settings::RenderSettings;
+use crate::texture::Texture;
+use glam::Vec3;
+use penumbra_shading::Rgb;
+use penumbra_shading::light::Light;
+
+/// A named abstract light.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneLight {
+    pub name: String,
+    pub light: Light,
+}
+
+/// Everything a renderer needs. Area lights are not listed here: they are
+/// the instances whose material has non-zero emission.
+#[derive(Clone, Debug, Default)]
+pub struct Scene {
+    pub meshes: Vec<Mesh>,
+    pub instances: Vec<Instance>,
+    pub materials: Vec<Material>,
+    pub textures: Vec<Texture>,
+    pub lights: Vec<SceneLight>,
+    /// `None` until a loader or the user sets one; renderers then need a default.
+    pub camera: Option<Camera>,
+    /// Constant radiance of the background / environment [W/(sr·m²)].
+    pub background: Rgb,
+    pub settings: RenderSettings,
+    /// Non-fatal problems found while loading (approximations, skipped data).
+    pub warnings: Vec<String>,
+}
+
+impl Scene {
+    /// World-space bounds (min, max) of all instances; `None` if empty.
+    pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
+        let mut lo = Vec3::splat(f32::INFINITY);
+        let mut hi = Vec3::splat(f32::NEG_INFINITY);
+        for inst in &self.instances {
+            for &p in &self.meshes[inst.mesh].positions {
+                let w = inst.transform.transform_point3(p);
+                lo = lo.min(w);
+                hi = hi.max(w);
+            }
+        }
+        (lo.x <= hi.x).then_some((lo, hi))
+    }
+
+    /// Total number of triangles over all instances.
+    pub fn triangle_count(&self) -> usize {
+        self.instances
+            .iter()
+            .map(|i| self.meshes[i.mesh].indices.len())
+            .sum()
+    }
+
+    /// Material used by an instance (its override, else its mesh's).
+    pub fn instance_material(&self, inst: &Instance) -> &Material {
+        &self.materials[inst.material.unwrap_or(self.meshes[inst.mesh].material)]
+    }
+
+    /// Adds a mesh and one identity instance of it; returns the mesh index.
+    pub fn add_mesh(&mut self, mesh: Mesh, transform: glam::Mat4) -> usize {
+        self.meshes.push(mesh);
+        let id = self.meshes.len() - 1;
+        self.instances.push(Instance::new(id, transform));
+        id
+    }
+
+    /// Adds a material, returning its id.
+    pub fn add_material(&mut self, m: Material) -> usize {
+        self.materials.push(m);
+        self.materials.len() - 1
+    }
+}

@@ -1,0 +1,129 @@
+//! Lambertian (ideal diffuse) reflection.
+//!
+//! `f = ρ / π` (notes 000, `c_dif / π`), equivalently the notes 002/003 `kd`
+//! with `kd = ρ / π`. Reflection only: f = 0 when wo and wi are on opposite
+//! sides of the surface.
+
+use super::BsdfSample;
+use crate::Rgb;
+use crate::sampling::{cosine_hemisphere_pdf, square_to_cosine_hemisphere};
+use glam::Vec3;
+use std::f32::consts::FRAC_1_PI;
+
+/// Lambertian BRDF with albedo ρ ∈ [0,1]³.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Lambert {
+    pub albedo: Rgb,
+}
+
+impl Lambert {
+    /// From the albedo ρ: f = ρ/π.
+    pub fn new(albedo: Rgb) -> Self {
+        Self { albedo }
+    }
+
+    /// From the notes' diffuse coefficient kd [1/sr]: ρ = π kd.
+    pub fn from_kd(kd: Rgb) -> Self {
+        Self {
+            albedo: kd * std::f32::consts::PI,
+        }
+    }
+
+    /// The notes' kd = ρ/π [1/sr].
+    pub fn kd(&self) -> Rgb {
+        self.albedo * FRAC_1_PI
+    }
+
+    /// f(wo, wi) = ρ/π if both are above the surface, else 0.
+    #[inline]
+    pub fn eval(&self, wo: Vec3, wi: Vec3) -> Rgb {
+        if wo.z > 0.0 && wi.z > 0.0 {
+            self.kd()
+        } else {
+            Rgb::ZERO
+        }
+    }
+
+    /// cos θi / π on the upper hemisphere.
+    #[inline]
+    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        if wo.z > 0.0 {
+            cosine_hemisphere_pdf(wi.z)
+        } else {
+            0.0
+        }
+    }
+
+    /// Cosine-weighted sampling; weight = f cos / pdf = ρ.
+    #[inline]
+    pub fn sample(&self, wo: Vec3, u: [f32; 2]) -> Option<BsdfSample> {
+        if wo.z <= 0.0 {
+            return None;
+        }
+        let wi = square_to_cosine_hemisphere(u);
+        let pdf = cosine_hemisphere_pdf(wi.z);
+        if pdf <= 0.0 {
+            return None;
+        }
+        Some(BsdfSample {
+            wi,
+            weight: self.albedo,
+            pdf,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sampling::Sampler;
+
+    #[test]
+    fn notes_quiz_lambert_is_2_4() {
+        // SEEDS.md quiz 2: n = (0,0,1), light from (0,3,4), Lin = 5, kd = 0.6.
+        let m = Lambert::from_kd(Rgb::splat(0.6));
+        let l = Vec3::new(0.0, 3.0, 4.0).normalize();
+        for v in [
+            Vec3::Z,
+            Vec3::new(0.5, 0.1, 0.3).normalize(),
+            Vec3::new(-0.9, 0.0, 0.1).normalize(),
+        ] {
+            let radiance = m.eval(v, l) * 5.0 * l.z;
+            assert!((radiance - Rgb::splat(2.4)).abs().max_element() < 1e-5);
+        }
+    }
+
+    #[test]
+    fn kd_and_albedo_agree() {
+        let m = Lambert::new(Rgb::new(0.5, 0.25, 1.0));
+        assert!(
+            (m.kd() * std::f32::consts::PI - m.albedo)
+                .abs()
+                .max_element()
+                < 1e-6
+        );
+    }
+
+    #[test]
+    fn reciprocal_and_white_furnace() {
+        let m = Lambert::new(Rgb::ONE);
+        let mut s = Sampler::new(0, 0, 0, 9);
+        let wo = Vec3::new(0.3, 0.2, 0.9).normalize();
+        let n = 100_000;
+        let mut est = Rgb::ZERO;
+        for i in 0..n {
+            s = Sampler::new(i, 0, 0, 9);
+            let smp = m.sample(wo, s.next_2d()).unwrap();
+            assert!(
+                (m.eval(wo, smp.wi) * smp.wi.z / smp.pdf - smp.weight)
+                    .abs()
+                    .max_element()
+                    < 1e-4
+            );
+            assert_eq!(m.eval(wo, smp.wi), m.eval(smp.wi, wo));
+            est += smp.weight;
+        }
+        assert!((est / n as f32 - Rgb::ONE).abs().max_element() < 1e-5);
+        assert!(m.sample(-wo, s.next_2d()).is_none());
+    }
+}

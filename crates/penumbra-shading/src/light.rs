@@ -1,0 +1,72 @@
+//! Abstract (delta) lights: directional, point and spot (SEEDS.md, Light
+//! sources). Area lights are emissive geometry and live in the tracer, which
+//! owns the geometry; they share [`LightSample`].
+
+mod directional;
+mod point;
+mod spot;
+
+pub use directional::DirectionalLight;
+pub use point::PointLight;
+pub use spot::SpotLight;
+
+use crate::Rgb;
+use glam::Vec3;
+
+/// Incident light at a shading point from one light sample.
+#[derive(Clone, Copy, Debug)]
+pub struct LightSample {
+    /// Unit direction from the shading point towards the light.
+    pub wi: Vec3,
+    /// Distance to the light sample (∞ for directional lights).
+    pub distance: f32,
+    /// For delta lights: the irradiance on a surface *perpendicular* to `wi`
+    /// [W/m²] (so the reflected radiance is `f · value · cos θ`). For area
+    /// lights: emitted radiance divided by the solid-angle pdf.
+    pub value: Rgb,
+    /// Solid-angle pdf of `wi` (meaningless, set to 1, for delta lights).
+    pub pdf: f32,
+    /// True for lights with no extent (no MIS with BSDF sampling possible).
+    pub is_delta: bool,
+}
+
+/// The abstract lights of the notes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Light {
+    Point(PointLight),
+    Directional(DirectionalLight),
+    Spot(SpotLight),
+}
+
+impl Light {
+    /// Incident light at `p`. `None` if the light cannot reach `p`.
+    pub fn sample_li(&self, p: Vec3) -> Option<LightSample> {
+        match self {
+            Light::Point(l) => l.sample_li(p),
+            Light::Directional(l) => l.sample_li(p),
+            Light::Spot(l) => l.sample_li(p),
+        }
+    }
+
+    /// Total emitted power Φ [W] per band. Directional lights need the scene
+    /// radius `r`: the power crossing a disk of radius r, `π r² E`.
+    pub fn power(&self, scene_radius: f32) -> Rgb {
+        match self {
+            Light::Point(l) => l.power(),
+            Light::Directional(l) => {
+                l.irradiance * std::f32::consts::PI * scene_radius * scene_radius
+            }
+            Light::Spot(l) => l.power(),
+        }
+    }
+
+    /// The notes' homogeneous light position (y, w): w = 1 for point and spot
+    /// lights, w = 0 for directional ones (y = direction *towards* the light).
+    pub fn homogeneous_position(&self) -> glam::Vec4 {
+        match self {
+            Light::Point(l) => l.position.extend(1.0),
+            Light::Spot(l) => l.position.extend(1.0),
+            Light::Directional(l) => (-l.direction).extend(0.0),
+        }
+    }
+}

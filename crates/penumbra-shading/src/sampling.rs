@@ -1,0 +1,8 @@
+//! Sampling: hashing, Owen-scrambled Sobol points, and warps from [0,1)² to
+//! directions and shapes. Every warp states its measure and returns/has a pdf.
+
+mod sobol;
+mod warp;
+
+pub use sobol::{Sampler, hash_combine, hash_u32};
+pub use warp::*;
