@@ -1,1 +1,47 @@
-fn main() {}
+//! `penumbra`: render scenes, inspect them, compare images and benchmark.
+
+mod commands;
+mod options;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "penumbra",
+    version,
+    about = "A physically based renderer: path tracing, direct and local illumination, ambient occlusion"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Render a scene (glTF, OBJ or TOML) to PNG or EXR. Without SCENE, renders the built-in Cornell box.
+    Render(commands::render::RenderArgs),
+    /// Print what a scene file contains: counts, bounds, lights and their power, warnings.
+    Info(commands::info::InfoArgs),
+    /// Compare a test image with a reference: RMSE, relMSE, PSNR and HDR-FLIP.
+    Compare(commands::compare::CompareArgs),
+    /// Measure BVH build and ray-tracing throughput, and path-tracing speed.
+    Bench(commands::bench::BenchArgs),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Render(a) => commands::render::run(a),
+        Command::Info(a) => commands::info::run(a),
+        Command::Compare(a) => commands::compare::run(a),
+        Command::Bench(a) => commands::bench::run(a),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("penumbra: error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}

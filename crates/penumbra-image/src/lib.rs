@@ -1,1 +1,36 @@
-//! penumbra-image
+//! Images, film accumulation, tone mapping, file I/O and error metrics for penumbra.
+//!
+//! * [`Image`]: a row-major linear Rec.709 float RGB image (row 0 = top).
+//! * [`Film`] / [`FilmTile`]: per-pixel running mean and variance (Welford) with a
+//!   1-pixel box filter; tiles let threads accumulate disjoint rectangles.
+//! * [`ToneMapping`]: exposure, [`ToneOperator`] and the sRGB OETF for 8-bit output.
+//! * [`write_image`] / [`read_image`]: atomic EXR/PNG writing, EXR/HDR/PNG/JPEG reading.
+//! * [`compare`]: RMSE, relMSE, PSNR and HDR-FLIP against a reference.
+
+pub mod buffer;
+pub mod error;
+pub mod exr_io;
+pub mod film;
+pub mod flip;
+mod flip_ldr;
+pub mod io;
+pub mod metrics;
+pub mod png_io;
+pub mod tonemap;
+
+/// Linear Rec.709 RGB radiance (or any linear RGB quantity, e.g. an albedo AOV).
+pub type Rgb = glam::Vec3;
+
+pub use crate::buffer::Image;
+pub use crate::error::ImageError;
+pub use crate::exr_io::{ExrLayers, read_exr_layers};
+pub use crate::film::{Film, FilmTile};
+pub use crate::flip::{
+    DEFAULT_PIXELS_PER_DEGREE, ExposureRange, FlipBackend, FlipOptions, flip_exposure_range,
+    flip_heatmap, hdr_flip, hdr_flip_with,
+};
+pub use crate::io::{ImageFormat, check_output_path, read_image, write_image};
+pub use crate::metrics::{Metrics, compare, psnr, rel_mse, rmse};
+pub use crate::tonemap::{
+    ToneMapping, ToneOperator, aces_filmic, srgb_eotf, srgb_oetf, tonemap_to_srgb8,
+};

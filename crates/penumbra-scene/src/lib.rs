@@ -6,6 +6,7 @@
 //! wrong; a loaded `Scene` is well-formed (finite positions, indices in range,
 //! no degenerate triangles, materials and textures that exist).
 
+pub mod builtin;
 pub mod camera;
 pub mod error;
 pub mod load;

@@ -1,0 +1,204 @@
+//! `penumbra bench`: BVH build rate, closest-hit throughput for coherent and
+//! incoherent rays, and path-tracing speed.
+
+use crate::options::{load_scene, parse_positive, thread_pool};
+use anyhow::{Context, Result, bail};
+use clap::Args;
+use glam::{Mat4, Vec3};
+use penumbra_scene::{Camera, IntegratorKind, Material, Projection, Scene, SceneLight};
+use penumbra_shading::Rgb;
+use penumbra_shading::light::{DirectionalLight, Light};
+use penumbra_trace::accel::BuildQuality;
+use penumbra_trace::bench::{
+    Measure, bench_mesh, camera_rays, incoherent_rays, measure_build, measure_closest_hit,
+    parse_ray_file, write_obj, write_ray_file,
+};
+use penumbra_trace::geometry::SceneGeometry;
+use penumbra_trace::{RenderOptions, render, scene_camera};
+use std::path::PathBuf;
+
+#[derive(Args, Debug)]
+pub struct BenchArgs {
+    /// Scene to benchmark. Without SCENE or --mesh: the generated bench mesh.
+    pub scene: Option<PathBuf>,
+    /// An OBJ mesh to benchmark (lit by a directional light, default camera).
+    #[arg(long, conflicts_with = "scene")]
+    pub mesh: Option<PathBuf>,
+    /// Triangles in the generated bench mesh.
+    #[arg(long, default_value_t = 1_000_000, value_parser = parse_positive)]
+    pub triangles: u32,
+    /// Write the generated bench mesh as OBJ (for other renderers) and exit.
+    #[arg(long)]
+    pub write_mesh: Option<PathBuf>,
+    /// Trace exactly these rays (little-endian f32 ox oy oz dx dy dz per ray, no header).
+    #[arg(long)]
+    pub rays: Option<PathBuf>,
+    /// Write the coherent and incoherent ray sets to FILE.coherent / FILE.incoherent.
+    #[arg(long)]
+    pub write_rays: Option<PathBuf>,
+    /// Camera-ray image size for the coherent set (square).
+    #[arg(long, default_value_t = 1024, value_parser = parse_positive)]
+    pub ray_resolution: u32,
+    /// Samples per pixel of the path-tracing measurement (0 skips it).
+    #[arg(long, default_value_t = 16)]
+    pub spp: u32,
+    /// Worker threads (default: all cores).
+    #[arg(long, value_parser = parse_positive)]
+    pub threads: Option<u32>,
+    /// One JSON object per line.
+    #[arg(long)]
+    pub json: bool,
+}
+
+fn mesh_scene(mesh: penumbra_scene::Mesh) -> Scene {
+    let mut scene = Scene::default();
+    let mat = scene.add_material(Material::lambert("grey", Rgb::splat(0.7)));
+    let mut mesh = mesh;
+    mesh.material = mat;
+    scene.add_mesh(mesh, Mat4::IDENTITY);
+    scene.lights.push(SceneLight {
+        name: "sun".into(),
+        light: Light::Directional(DirectionalLight {
+            direction: Vec3::new(-0.3, -1.0, -0.5).normalize(),
+            irradiance: Rgb::splat(3.0),
+        }),
+    });
+    scene.background = Rgb::splat(0.2);
+    scene
+}
+
+fn report(m: &Measure, json: bool, unit: &str) {
+    if json {
+        let key = if m.name == "build" {
+            "mtris_per_s"
+        } else if m.name == "path" {
+            "msamples_per_s"
+        } else {
+            "mrays_per_s"
+        };
+        println!(
+            "{{\"measure\":\"{}\",\"seconds\":{:.6},\"count\":{},\"hits\":{},\"{key}\":{:.4}}}",
+            m.name,
+            m.seconds,
+            m.count,
+            m.hits,
+            m.millions_per_second()
+        );
+    } else {
+        let hits = if m.name == "build" || m.name == "path" {
+            String::new()
+        } else {
+            format!(", {} hits", m.hits)
+        };
+        println!(
+            "{:<12} {:>10.4} s  {:>9.3} {unit}  ({} items{hits})",
+            m.name,
+            m.seconds,
+            m.millions_per_second(),
+            m.count
+        );
+    }
+}
+
+pub fn run(args: BenchArgs) -> Result<()> {
+    if let Some(out) = &args.write_mesh {
+        let mesh = bench_mesh(args.triangles as usize);
+        write_obj(out, &mesh).with_context(|| format!("writing {}", out.display()))?;
+        eprintln!(
+            "penumbra: wrote {} triangles to {}",
+            mesh.indices.len(),
+            out.display()
+        );
+        return Ok(());
+    }
+    let scene = match (&args.scene, &args.mesh) {
+        (Some(p), _) => load_scene(p)?,
+        (None, Some(m)) => {
+            let loaded = load_scene(m)?;
+            let mut s = mesh_scene(penumbra_scene::Mesh::default());
+            s.meshes.clear();
+            s.instances.clear();
+            for inst in &loaded.instances {
+                let mut mesh = loaded.meshes[inst.mesh].clone();
+                mesh.material = 0;
+                s.add_mesh(mesh, inst.transform);
+            }
+            s
+        }
+        (None, None) => mesh_scene(bench_mesh(args.triangles as usize)),
+    };
+    if scene.triangle_count() == 0 {
+        bail!("the scene has no triangles to benchmark");
+    }
+    let pool = thread_pool(args.threads)?;
+    pool.install(|| run_measures(&args, &scene))
+}
+
+fn run_measures(args: &BenchArgs, scene: &Scene) -> Result<()> {
+    let geometry = SceneGeometry::build(scene, BuildQuality::Medium);
+    let (accel, build) = measure_build(&geometry.triangles, BuildQuality::Medium);
+    if !args.json {
+        println!(
+            "penumbra bench: {} triangles, {} threads",
+            geometry.triangles.len(),
+            rayon::current_num_threads()
+        );
+    }
+    report(&build, args.json, "Mtris/s");
+    if let Some(path) = &args.rays {
+        let bytes = std::fs::read(path)
+            .with_context(|| format!("cannot read ray file {}", path.display()))?;
+        let rays =
+            parse_ray_file(&bytes).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+        report(
+            &measure_closest_hit(&accel, &rays, "file"),
+            args.json,
+            "Mrays/s",
+        );
+        return Ok(());
+    }
+    let mut camera = scene_camera(scene);
+    if scene.camera.is_none() {
+        camera = Camera {
+            projection: Projection::Perspective {
+                fov_y: 40f32.to_radians(),
+            },
+            ..camera
+        };
+    }
+    let coherent = camera_rays(&camera, args.ray_resolution, args.ray_resolution);
+    let incoherent = incoherent_rays(&accel, &geometry.triangles, &coherent, 7);
+    if let Some(base) = &args.write_rays {
+        for (suffix, set) in [("coherent", &coherent), ("incoherent", &incoherent)] {
+            let p = PathBuf::from(format!("{}.{suffix}", base.display()));
+            std::fs::write(&p, write_ray_file(set))
+                .with_context(|| format!("writing {}", p.display()))?;
+        }
+    }
+    // Warm up caches once, then measure.
+    measure_closest_hit(&accel, &coherent[..coherent.len().min(65_536)], "warmup");
+    report(
+        &measure_closest_hit(&accel, &coherent, "coherent"),
+        args.json,
+        "Mrays/s",
+    );
+    report(
+        &measure_closest_hit(&accel, &incoherent, "incoherent"),
+        args.json,
+        "Mrays/s",
+    );
+    if args.spp > 0 {
+        let mut settings = scene.settings.clone();
+        settings.integrator = IntegratorKind::Path;
+        settings.spp = args.spp;
+        let out = render(scene, &settings, &RenderOptions::default());
+        let m = Measure {
+            name: "path",
+            seconds: out.render_seconds,
+            count: settings.width as u64 * settings.height as u64 * out.spp as u64,
+            hits: 0,
+        };
+        report(&m, args.json, "Msamples/s");
+    }
+    Ok(())
+}

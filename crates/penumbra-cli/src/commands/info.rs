@@ -1,0 +1,91 @@
+//! `penumbra info`.
+
+use crate::options::load_scene;
+use anyhow::Result;
+use clap::Args;
+use penumbra_shading::light::Light;
+use std::path::PathBuf;
+
+#[derive(Args, Debug)]
+pub struct InfoArgs {
+    /// Scene file (.gltf, .glb, .obj, .toml).
+    pub scene: PathBuf,
+}
+
+pub fn run(args: InfoArgs) -> Result<()> {
+    let scene = load_scene(&args.scene)?;
+    println!("scene:      {}", args.scene.display());
+    println!("meshes:     {}", scene.meshes.len());
+    println!("instances:  {}", scene.instances.len());
+    println!("triangles:  {}", scene.triangle_count());
+    println!("materials:  {}", scene.materials.len());
+    println!("textures:   {}", scene.textures.len());
+    match scene.bounds() {
+        Some((lo, hi)) => println!(
+            "bounds:     [{:.4}, {:.4}, {:.4}] .. [{:.4}, {:.4}, {:.4}]",
+            lo.x, lo.y, lo.z, hi.x, hi.y, hi.z
+        ),
+        None => println!("bounds:     (empty)"),
+    }
+    match &scene.camera {
+        Some(c) => println!("camera:     at {:?}, {:?}", c.position(), c.projection),
+        None => println!("camera:     none (a default camera framing the bounds is used)"),
+    }
+    let s = &scene.settings;
+    println!(
+        "render:     {}x{}, {} spp, max depth {}, integrator {}, seed {}",
+        s.width, s.height, s.spp, s.max_depth, s.integrator, s.seed
+    );
+    let radius = scene
+        .bounds()
+        .map_or(1.0, |(lo, hi)| 0.5 * (hi - lo).length());
+    println!("lights:     {}", scene.lights.len());
+    for l in &scene.lights {
+        let p = l.light.power(radius);
+        let what = match &l.light {
+            Light::Point(pl) => format!(
+                "point at {:?}, intensity {:?} W/sr",
+                pl.position, pl.intensity
+            ),
+            Light::Directional(d) => format!(
+                "directional, travelling {:?}, irradiance {:?} W/m²",
+                d.direction, d.irradiance
+            ),
+            Light::Spot(sp) => format!(
+                "spot at {:?} towards {:?}, intensity {:?} W/sr",
+                sp.position, sp.direction, sp.intensity
+            ),
+        };
+        println!(
+            "  {}: {what}; power {:.4} {:.4} {:.4} W",
+            l.name, p.x, p.y, p.z
+        );
+    }
+    // Area lights: emissive instances, power Φ = π L A per emitting side.
+    for inst in &scene.instances {
+        let m = scene.instance_material(inst);
+        if !m.is_emissive() {
+            continue;
+        }
+        let mesh = &scene.meshes[inst.mesh];
+        let area: f32 = mesh
+            .indices
+            .iter()
+            .map(|t| {
+                let p = |i: u32| inst.transform.transform_point3(mesh.positions[i as usize]);
+                0.5 * (p(t[1]) - p(t[0])).cross(p(t[2]) - p(t[0])).length()
+            })
+            .sum();
+        let sides = if m.double_sided { 2.0 } else { 1.0 };
+        let phi = m.emission * std::f32::consts::PI * area * sides;
+        println!(
+            "  area light '{}' (material '{}'): area {:.4}, radiance {:?}, power {:.4} {:.4} {:.4} W",
+            mesh.name, m.name, area, m.emission, phi.x, phi.y, phi.z
+        );
+    }
+    println!("warnings:   {}", scene.warnings.len());
+    for w in &scene.warnings {
+        println!("  {w}");
+    }
+    Ok(())
+}

@@ -1,0 +1,4 @@
+pub mod bench;
+pub mod compare;
+pub mod info;
+pub mod render;

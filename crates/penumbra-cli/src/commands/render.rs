@@ -1,0 +1,153 @@
+//! `penumbra render`.
+
+use crate::options::{
+    check_image_memory, load_scene, parse_positive, parse_resolution, parse_seconds, thread_pool,
+};
+use anyhow::{Context, Result};
+use clap::{Args, ValueEnum};
+use indicatif::{ProgressBar, ProgressStyle};
+use penumbra_image::{ToneMapping, ToneOperator, check_output_path, write_image};
+use penumbra_scene::IntegratorKind;
+use penumbra_trace::{Progress, RenderOptions, render};
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use std::time::Duration;
+
+#[derive(Args, Debug)]
+pub struct RenderArgs {
+    /// Scene file (.gltf, .glb, .obj, .toml). Default: the built-in Cornell box.
+    pub scene: Option<PathBuf>,
+    /// Output image: .png (tone-mapped sRGB) or .exr (linear float RGB).
+    #[arg(short, long, default_value = "penumbra.png")]
+    pub output: PathBuf,
+    /// local | direct | path | ao (default: the scene's, else path).
+    #[arg(long, value_parser = |s: &str| s.parse::<IntegratorKind>())]
+    pub integrator: Option<IntegratorKind>,
+    /// Samples per pixel.
+    #[arg(long, value_parser = parse_positive)]
+    pub spp: Option<u32>,
+    /// Maximum path segments from the camera (Mitsuba's max_depth: 1 = emitters only, 2 = direct light).
+    #[arg(long, value_parser = parse_positive)]
+    pub max_depth: Option<u32>,
+    /// Image size WIDTHxHEIGHT.
+    #[arg(long, value_parser = parse_resolution)]
+    pub resolution: Option<(u32, u32)>,
+    /// Random seed; the same seed gives the same image for any thread count.
+    #[arg(long)]
+    pub seed: Option<u32>,
+    /// Worker threads (default: all cores).
+    #[arg(long, value_parser = parse_positive)]
+    pub threads: Option<u32>,
+    /// Stop after this many seconds (at the end of a sample pass).
+    #[arg(long, value_parser = parse_seconds)]
+    pub time_limit: Option<f64>,
+    /// Ambient-occlusion ray length in scene units (default: unlimited).
+    #[arg(long, value_parser = parse_seconds)]
+    pub ao_distance: Option<f64>,
+    /// Also write albedo, normal and depth layers (EXR only).
+    #[arg(long)]
+    pub aovs: bool,
+    /// Exposure in stops applied before tone mapping (PNG only).
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub exposure: f32,
+    /// Tone-mapping operator for PNG output.
+    #[arg(long, value_enum, default_value_t = ToneArg::Filmic)]
+    pub tonemap: ToneArg,
+}
+
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum ToneArg {
+    Filmic,
+    Clamp,
+}
+
+pub fn run(args: RenderArgs) -> Result<()> {
+    // Check the output before spending time on loading and rendering.
+    check_output_path(&args.output)?;
+    let scene = match &args.scene {
+        Some(p) => load_scene(p)?,
+        None => penumbra_scene::builtin::cornell_box(),
+    };
+    for w in &scene.warnings {
+        eprintln!("penumbra: warning: {w}");
+    }
+    let mut settings = scene.settings.clone();
+    if let Some(i) = args.integrator {
+        settings.integrator = i;
+    }
+    if let Some(s) = args.spp {
+        settings.spp = s;
+    }
+    if let Some(d) = args.max_depth {
+        settings.max_depth = d;
+    }
+    if let Some((w, h)) = args.resolution {
+        settings.width = w;
+        settings.height = h;
+    }
+    if let Some(s) = args.seed {
+        settings.seed = s;
+    }
+    if let Some(d) = args.ao_distance {
+        settings.ao_distance = d as f32;
+    }
+    // Film: mean + M2 + count ≈ 28 B; output copies and AOVs ≈ 48 B more.
+    check_image_memory(
+        settings.width,
+        settings.height,
+        if args.aovs { 160 } else { 80 },
+    )?;
+
+    let bar = std::io::stderr().is_terminal().then(|| {
+        let total = settings.width as u64 * settings.height as u64 * settings.spp as u64;
+        let pb = ProgressBar::new(total);
+        pb.set_style(
+            ProgressStyle::with_template("{spinner} [{elapsed_precise}] {wide_bar} {percent:>3}% {per_sec} samples, ETA {eta}")
+                .unwrap_or_else(|_| ProgressStyle::default_bar()),
+        );
+        pb
+    });
+    let report = |p: Progress| {
+        if let Some(b) = &bar {
+            b.set_position(p.samples_done);
+        }
+    };
+    let options = RenderOptions {
+        time_limit: args.time_limit.map(Duration::from_secs_f64),
+        progress: Some(&report),
+        aovs: args.aovs,
+        ..Default::default()
+    };
+    let pool = thread_pool(args.threads)?;
+    let out = pool.install(|| render(&scene, &settings, &options));
+    if let Some(b) = &bar {
+        b.finish_and_clear();
+    }
+    let tm = ToneMapping {
+        exposure_ev: args.exposure,
+        operator: match args.tonemap {
+            ToneArg::Filmic => ToneOperator::Filmic,
+            ToneArg::Clamp => ToneOperator::Clamp,
+        },
+    };
+    let aovs: Vec<(&str, &penumbra_image::Image)> =
+        out.aovs.iter().map(|(n, i)| (n.as_str(), i)).collect();
+    write_image(&args.output, &out.image, &aovs, &tm)
+        .with_context(|| format!("writing {}", args.output.display()))?;
+    eprintln!(
+        "penumbra: {} {}x{} at {} spp ({}) in {:.2} s (+{:.2} s BVH) -> {}",
+        settings.integrator,
+        settings.width,
+        settings.height,
+        out.spp,
+        if out.spp < settings.spp {
+            "stopped by --time-limit"
+        } else {
+            "complete"
+        },
+        out.render_seconds,
+        out.build_seconds,
+        args.output.display()
+    );
+    Ok(())
+}

@@ -1,0 +1,91 @@
+//! Shared command-line value parsers and helpers.
+
+use anyhow::{Context, Result, bail};
+use penumbra_scene::{LoadOptions, Scene};
+use std::path::Path;
+
+/// Largest image edge accepted.
+pub const MAX_EDGE: u32 = 65_536;
+
+/// Parses `WxH` (e.g. `1920x1080`).
+pub fn parse_resolution(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("'{s}' is not WIDTHxHEIGHT (e.g. 512x512)"))?;
+    let parse = |v: &str, what: &str| -> Result<u32, String> {
+        let n: u32 = v
+            .trim()
+            .parse()
+            .map_err(|_| format!("{what} '{v}' is not a whole number"))?;
+        if n == 0 || n > MAX_EDGE {
+            return Err(format!("{what} {n} is out of range (1 to {MAX_EDGE})"));
+        }
+        Ok(n)
+    };
+    Ok((parse(w, "width")?, parse(h, "height")?))
+}
+
+/// Parses a whole number ≥ 1.
+pub fn parse_positive(s: &str) -> Result<u32, String> {
+    let n: i64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{s}' is not a whole number"))?;
+    if n < 1 || n > u32::MAX as i64 {
+        return Err(format!("{n} is out of range (must be at least 1)"));
+    }
+    Ok(n as u32)
+}
+
+/// Parses seconds > 0.
+pub fn parse_seconds(s: &str) -> Result<f64, String> {
+    let v: f64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{s}' is not a number of seconds"))?;
+    if !(v > 0.0 && v.is_finite()) {
+        return Err(format!("{v} must be a positive number of seconds"));
+    }
+    Ok(v)
+}
+
+/// Loads a scene file; absolute paths the user typed are allowed inside it.
+pub fn load_scene(path: &Path) -> Result<Scene> {
+    let mut options = LoadOptions::default();
+    if let Ok(abs) = std::path::absolute(path) {
+        options.allowed_absolute_paths.push(abs);
+    }
+    Ok(penumbra_scene::load_scene(path, &options)?)
+}
+
+/// Bytes of memory currently available (Linux `MemAvailable`), if known.
+pub fn available_memory() -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib * 1024)
+}
+
+/// Refuses image sizes whose buffers would not fit in memory.
+pub fn check_image_memory(width: u32, height: u32, bytes_per_pixel: u64) -> Result<()> {
+    let need = width as u64 * height as u64 * bytes_per_pixel;
+    if let Some(avail) = available_memory()
+        && need > avail
+    {
+        bail!(
+            "resolution {width}x{height} needs about {:.1} GiB for its image buffers, more than the {:.1} GiB of memory available",
+            need as f64 / (1u64 << 30) as f64,
+            avail as f64 / (1u64 << 30) as f64
+        );
+    }
+    Ok(())
+}
+
+/// Builds the rayon pool for `--threads` (None = all cores).
+pub fn thread_pool(threads: Option<u32>) -> Result<rayon::ThreadPool> {
+    let mut b = rayon::ThreadPoolBuilder::new();
+    if let Some(n) = threads {
+        b = b.num_threads(n as usize);
+    }
+    b.build().context("cannot start worker threads")
+}

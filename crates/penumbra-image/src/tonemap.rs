@@ -1,0 +1,234 @@
+//! Display transform: exposure → tone operator → sRGB OETF → 8 bit.
+//!
+//! For a linear value `L` (per channel):
+//! 1. exposure: `x = L · 2^EV` (NaN and negative values become 0);
+//! 2. operator: [`ToneOperator::Clamp`] `y = min(x, 1)`, or
+//!    [`ToneOperator::Filmic`] `y = clamp(x(2.51x + 0.03) / (x(2.43x + 0.59) + 0.14), 0, 1)`
+//!    (Narkowicz 2015, "ACES Filmic Tone Mapping Curve", applied per channel, no
+//!    pre-exposure factor);
+//! 3. sRGB OETF (IEC 61966-2-1): `V = 12.92 y` for `y ≤ 0.0031308`, else
+//!    `V = 1.055 y^(1/2.4) − 0.055`;
+//! 4. quantisation: `⌊255 V + 0.5⌋` (round half up).
+
+use std::fmt;
+use std::str::FromStr;
+
+use crate::{Image, Rgb};
+
+/// Tone curve applied after exposure.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum ToneOperator {
+    /// `y = clamp(x, 0, 1)`: exact for values already in [0, 1] (e.g. heatmaps, albedo).
+    Clamp,
+    /// ACES filmic fit (Narkowicz 2015), per channel:
+    /// `y = clamp(x(2.51x + 0.03) / (x(2.43x + 0.59) + 0.14), 0, 1)`.
+    /// Mid grey 0.18 maps to 0.267 (sRGB 141/255); the curve saturates at x ≈ 7.24.
+    #[default]
+    Filmic,
+}
+
+impl ToneOperator {
+    /// Applies the operator to one exposed linear value `x` (NaN → 0, negative → 0).
+    pub fn apply(self, x: f32) -> f32 {
+        if x.is_nan() || x <= 0.0 {
+            return 0.0;
+        }
+        match self {
+            ToneOperator::Clamp => x.min(1.0),
+            ToneOperator::Filmic => aces_filmic(x),
+        }
+    }
+
+    /// Lower-case name, as accepted by [`FromStr`]: `"clamp"` or `"filmic"`.
+    pub fn name(self) -> &'static str {
+        match self {
+            ToneOperator::Clamp => "clamp",
+            ToneOperator::Filmic => "filmic",
+        }
+    }
+}
+
+impl fmt::Display for ToneOperator {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for ToneOperator {
+    type Err = String;
+
+    /// Parses `"clamp"` or `"filmic"` (case-insensitive).
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s.to_ascii_lowercase().as_str() {
+            "clamp" => Ok(ToneOperator::Clamp),
+            "filmic" | "aces" => Ok(ToneOperator::Filmic),
+            _ => Err(format!(
+                "unknown tone operator {s:?} (expected \"clamp\" or \"filmic\")"
+            )),
+        }
+    }
+}
+
+/// Exposure plus tone operator. Default: EV 0, [`ToneOperator::Filmic`].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ToneMapping {
+    /// Exposure in stops: values are multiplied by `2^exposure_ev` before the operator.
+    pub exposure_ev: f32,
+    /// The tone curve.
+    pub operator: ToneOperator,
+}
+
+impl ToneMapping {
+    /// EV 0 with [`ToneOperator::Clamp`]: writes values in [0, 1] unchanged
+    /// except for the sRGB OETF (use it for heatmaps and other display-ready data).
+    pub const CLAMP: ToneMapping = ToneMapping {
+        exposure_ev: 0.0,
+        operator: ToneOperator::Clamp,
+    };
+
+    /// A tone mapping with the given exposure and operator.
+    pub fn new(exposure_ev: f32, operator: ToneOperator) -> Self {
+        Self {
+            exposure_ev,
+            operator,
+        }
+    }
+
+    /// Display-referred linear value in [0, 1]: `operator(L · 2^EV)` per channel.
+    pub fn map(&self, linear: Rgb) -> Rgb {
+        let scale = self.exposure_ev.exp2();
+        let op = self.operator;
+        Rgb::new(
+            op.apply(linear.x * scale),
+            op.apply(linear.y * scale),
+            op.apply(linear.z * scale),
+        )
+    }
+
+    /// The 8-bit sRGB code values of one linear pixel.
+    pub fn to_srgb8(&self, linear: Rgb) -> [u8; 3] {
+        let y = self.map(linear);
+        [
+            quantize(srgb_oetf(y.x)),
+            quantize(srgb_oetf(y.y)),
+            quantize(srgb_oetf(y.z)),
+        ]
+    }
+}
+
+/// ACES filmic curve fit (Narkowicz 2015):
+/// `clamp(x(2.51x + 0.03) / (x(2.43x + 0.59) + 0.14), 0, 1)`; NaN → 0.
+pub fn aces_filmic(x: f32) -> f32 {
+    if x.is_nan() || x <= 0.0 {
+        return 0.0;
+    }
+    // Beyond x ≈ 7.24 the curve exceeds 1 and is clamped; bounding x avoids inf/inf.
+    let x = x.min(1.0e4);
+    ((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14)).clamp(0.0, 1.0)
+}
+
+/// sRGB OETF (IEC 61966-2-1), linear → encoded:
+/// `12.92 L` for `L ≤ 0.0031308`, else `1.055 L^(1/2.4) − 0.055`.
+pub fn srgb_oetf(linear: f32) -> f32 {
+    if linear <= 0.003_130_8 {
+        12.92 * linear
+    } else {
+        1.055 * linear.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+/// sRGB EOTF (inverse of [`srgb_oetf`]), encoded → linear:
+/// `V / 12.92` for `V ≤ 0.04045`, else `((V + 0.055) / 1.055)^2.4`.
+pub fn srgb_eotf(encoded: f32) -> f32 {
+    if encoded <= 0.040_45 {
+        encoded / 12.92
+    } else {
+        ((encoded + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// `⌊255 · clamp(v, 0, 1) + 0.5⌋`; NaN → 0.
+pub(crate) fn quantize(v: f32) -> u8 {
+    if v.is_nan() {
+        return 0;
+    }
+    (v.clamp(0.0, 1.0) * 255.0 + 0.5) as u8
+}
+
+/// Tone-maps a linear image to interleaved 8-bit sRGB, `3 · width · height`
+/// bytes, row-major from the top-left: `L · 2^EV` → operator → sRGB OETF → 8 bit.
+pub fn tonemap_to_srgb8(img: &Image, tm: &ToneMapping) -> Vec<u8> {
+    img.pixels.iter().flat_map(|&p| tm.to_srgb8(p)).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn code(v: f32, tm: ToneMapping) -> u8 {
+        tm.to_srgb8(Rgb::splat(v))[0]
+    }
+
+    #[test]
+    fn clamp_known_values() {
+        let tm = ToneMapping::CLAMP;
+        assert_eq!(code(0.0, tm), 0);
+        assert_eq!(code(0.5, tm), 188); // sRGB(0.5) = 0.73536 → 187.52
+        assert_eq!(code(0.18, tm), 118); // 0.46135 → 117.65
+        assert_eq!(code(0.001, tm), 3); // linear segment: 12.92e-3 · 255 = 3.29
+        assert_eq!(code(1.0, tm), 255);
+        assert_eq!(code(7.0, tm), 255);
+        assert_eq!(code(-1.0, tm), 0);
+        assert_eq!(code(f32::NAN, tm), 0);
+        assert_eq!(code(f32::INFINITY, tm), 255);
+    }
+
+    #[test]
+    fn exposure_scales_by_power_of_two() {
+        let tm = ToneMapping::new(1.0, ToneOperator::Clamp);
+        assert_eq!(code(0.25, tm), 188);
+        let tm = ToneMapping::new(-2.0, ToneOperator::Clamp);
+        assert_eq!(code(2.0, tm), 188);
+    }
+
+    #[test]
+    fn filmic_known_values() {
+        let tm = ToneMapping::default();
+        assert_eq!(tm.operator, ToneOperator::Filmic);
+        assert_eq!(tm.exposure_ev, 0.0);
+        // f(1) = 2.54 / 3.16 = 0.80380 → sRGB 0.9082 → 231.6
+        assert!((aces_filmic(1.0) - 2.54 / 3.16).abs() < 1e-6);
+        assert_eq!(code(1.0, tm), 232);
+        // f(0.5) = 0.64 / 1.0385 = 0.61631 → 206
+        assert_eq!(code(0.5, tm), 206);
+        assert_eq!(code(0.18, tm), 141);
+        assert_eq!(code(0.0, tm), 0);
+        assert_eq!(code(1.0e30, tm), 255);
+        assert_eq!(code(f32::INFINITY, tm), 255);
+    }
+
+    #[test]
+    fn srgb_round_trip() {
+        for i in 0..=255u32 {
+            let v = i as f32 / 255.0;
+            assert_eq!(quantize(srgb_oetf(srgb_eotf(v))), i as u8);
+        }
+    }
+
+    #[test]
+    fn buffer_layout() {
+        let img = Image::from_pixels(2, 1, vec![Rgb::new(0.0, 0.5, 1.0), Rgb::new(1.0, 0.0, 0.5)])
+            .expect("valid");
+        assert_eq!(
+            tonemap_to_srgb8(&img, &ToneMapping::CLAMP),
+            vec![0, 188, 255, 255, 0, 188]
+        );
+    }
+
+    #[test]
+    fn parse_operator() {
+        assert_eq!("Filmic".parse::<ToneOperator>(), Ok(ToneOperator::Filmic));
+        assert_eq!("clamp".parse::<ToneOperator>(), Ok(ToneOperator::Clamp));
+        assert!("reinhard".parse::<ToneOperator>().is_err());
+    }
+}

@@ -1,0 +1,162 @@
+//! Watertight ray–triangle intersection.
+//!
+//! Woop, Benthin & Wald 2013, "Watertight Ray/Triangle Intersection" (JCGT
+//! 2(1)): translate the vertices to the ray origin, permute so the dominant
+//! direction axis is z, shear so the ray is +z, and evaluate the 2-D edge
+//! functions U, V, W. A hit needs U, V, W of one sign; edges shared by two
+//! triangles give exactly opposite values, so a ray through an edge or vertex
+//! hits at least one of them. Zero edge functions fall back to f64.
+
+use glam::Vec3;
+
+/// Per-ray precomputation (axis permutation and shear).
+#[derive(Clone, Copy, Debug)]
+pub struct WatertightRay {
+    origin: Vec3,
+    kx: usize,
+    ky: usize,
+    kz: usize,
+    sx: f32,
+    sy: f32,
+    sz: f32,
+}
+
+/// A hit: distance and barycentrics (b1 for v1, b2 for v2).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TriangleHit {
+    pub t: f32,
+    pub b1: f32,
+    pub b2: f32,
+}
+
+impl WatertightRay {
+    pub fn new(origin: Vec3, dir: Vec3) -> Self {
+        let a = dir.abs();
+        let kz = if a.x > a.y {
+            if a.x > a.z { 0 } else { 2 }
+        } else if a.y > a.z {
+            1
+        } else {
+            2
+        };
+        let mut kx = (kz + 1) % 3;
+        let mut ky = (kx + 1) % 3;
+        if dir[kz] < 0.0 {
+            std::mem::swap(&mut kx, &mut ky);
+        }
+        let sz = 1.0 / dir[kz];
+        Self {
+            origin,
+            kx,
+            ky,
+            kz,
+            sx: dir[kx] * sz,
+            sy: dir[ky] * sz,
+            sz,
+        }
+    }
+
+    /// Intersects triangle (p0, p1, p2) within (0, tmax).
+    #[inline]
+    pub fn intersect(&self, p0: Vec3, p1: Vec3, p2: Vec3, tmax: f32) -> Option<TriangleHit> {
+        let a = p0 - self.origin;
+        let b = p1 - self.origin;
+        let c = p2 - self.origin;
+        let (kx, ky, kz) = (self.kx, self.ky, self.kz);
+        let ax = a[kx] - self.sx * a[kz];
+        let ay = a[ky] - self.sy * a[kz];
+        let bx = b[kx] - self.sx * b[kz];
+        let by = b[ky] - self.sy * b[kz];
+        let cx = c[kx] - self.sx * c[kz];
+        let cy = c[ky] - self.sy * c[kz];
+        let mut u = cx * by - cy * bx;
+        let mut v = ax * cy - ay * cx;
+        let mut w = bx * ay - by * ax;
+        if u == 0.0 || v == 0.0 || w == 0.0 {
+            u = (cx as f64 * by as f64 - cy as f64 * bx as f64) as f32;
+            v = (ax as f64 * cy as f64 - ay as f64 * cx as f64) as f32;
+            w = (bx as f64 * ay as f64 - by as f64 * ax as f64) as f32;
+        }
+        if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
+            return None;
+        }
+        let det = u + v + w;
+        if det == 0.0 {
+            return None;
+        }
+        let az = self.sz * a[kz];
+        let bz = self.sz * b[kz];
+        let cz = self.sz * c[kz];
+        let t_scaled = u * az + v * bz + w * cz;
+        // t = t_scaled / det must lie in (0, tmax); compare without dividing
+        // by the sign of det.
+        if det < 0.0 && (t_scaled >= 0.0 || t_scaled < tmax * det) {
+            return None;
+        }
+        if det > 0.0 && (t_scaled <= 0.0 || t_scaled > tmax * det) {
+            return None;
+        }
+        let inv = 1.0 / det;
+        let t = t_scaled * inv;
+        if !(t > 0.0 && t < tmax) {
+            return None;
+        }
+        Some(TriangleHit {
+            t,
+            b1: v * inv,
+            b2: w * inv,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn hits_centre_with_barycentrics() {
+        let r = WatertightRay::new(Vec3::new(0.25, 0.25, 1.0), -Vec3::Z);
+        let h = r
+            .intersect(Vec3::ZERO, Vec3::X, Vec3::Y, f32::INFINITY)
+            .unwrap();
+        assert!((h.t - 1.0).abs() < 1e-6);
+        assert!((h.b1 - 0.25).abs() < 1e-6 && (h.b2 - 0.25).abs() < 1e-6);
+        // Behind the origin, or beyond tmax: no hit.
+        assert!(
+            r.intersect(
+                Vec3::new(0.0, 0.0, 2.0),
+                Vec3::new(1.0, 0.0, 2.0),
+                Vec3::new(0.0, 1.0, 2.0),
+                f32::INFINITY
+            )
+            .is_none()
+        );
+        assert!(r.intersect(Vec3::ZERO, Vec3::X, Vec3::Y, 0.5).is_none());
+        // Both windings hit.
+        assert!(
+            r.intersect(Vec3::ZERO, Vec3::Y, Vec3::X, f32::INFINITY)
+                .is_some()
+        );
+        // Outside.
+        let r2 = WatertightRay::new(Vec3::new(0.8, 0.8, 1.0), -Vec3::Z);
+        assert!(
+            r2.intersect(Vec3::ZERO, Vec3::X, Vec3::Y, f32::INFINITY)
+                .is_none()
+        );
+    }
+
+    #[test]
+    fn shared_edge_is_never_missed() {
+        // Two triangles sharing the diagonal of the unit square.
+        let (p0, p1, p2, p3) = (Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::Y);
+        for i in 0..10_000 {
+            let s = i as f32 / 10_000.0;
+            let target = Vec3::new(s, s, 0.0);
+            let o = Vec3::new(0.3 + s, -0.7, 2.1 - s);
+            let r = WatertightRay::new(o, (target - o).normalize());
+            let h = r.intersect(p0, p1, p2, f32::INFINITY).is_some()
+                || r.intersect(p0, p2, p3, f32::INFINITY).is_some();
+            assert!(h, "missed at s = {s}");
+        }
+    }
+}

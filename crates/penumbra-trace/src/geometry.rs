@@ -1,0 +1,153 @@
+//! The scene flattened for tracing: world-space triangles in one BVH, and the
+//! surface data (normals, UVs, material) looked up at a hit.
+
+use crate::accel::{Accel, BuildQuality, Hit};
+use crate::ray::Ray;
+use glam::{Mat3, Vec2, Vec3};
+use penumbra_scene::{MaterialId, Scene};
+
+/// Where a triangle came from.
+#[derive(Clone, Copy, Debug)]
+struct TriangleSource {
+    instance: u32,
+    /// Triangle index inside the instance's mesh.
+    local: u32,
+}
+
+/// Per-instance data cached for shading.
+#[derive(Clone, Debug)]
+struct InstanceData {
+    normal_matrix: Mat3,
+    material: MaterialId,
+    /// +1, or −1 when the transform mirrors (front = CW in world space).
+    winding: f32,
+}
+
+/// Geometric and shading data at a ray hit.
+#[derive(Clone, Copy, Debug)]
+pub struct SurfaceHit {
+    pub p: Vec3,
+    pub t: f32,
+    /// Unit geometric normal of the *front* face (CCW winding, glTF rules).
+    pub ng: Vec3,
+    /// Unit shading normal (interpolated vertex normal, or `ng`), on the
+    /// same side as `ng`.
+    pub ns: Vec3,
+    pub uv: Vec2,
+    pub material: MaterialId,
+    /// Triangle index in [`SceneGeometry`] order.
+    pub triangle: u32,
+}
+
+/// Scene triangles in world space with a BVH over them.
+#[derive(Debug)]
+pub struct SceneGeometry {
+    pub accel: Accel,
+    /// World-space vertices of each triangle.
+    pub triangles: Vec<[Vec3; 3]>,
+    sources: Vec<TriangleSource>,
+    instances: Vec<InstanceData>,
+}
+
+impl SceneGeometry {
+    pub fn build(scene: &Scene, quality: BuildQuality) -> Self {
+        let mut triangles = Vec::with_capacity(scene.triangle_count());
+        let mut sources = Vec::with_capacity(scene.triangle_count());
+        let mut instances = Vec::with_capacity(scene.instances.len());
+        for (ii, inst) in scene.instances.iter().enumerate() {
+            let mesh = &scene.meshes[inst.mesh];
+            let world: Vec<Vec3> = mesh
+                .positions
+                .iter()
+                .map(|&p| inst.transform.transform_point3(p))
+                .collect();
+            for (ti, tri) in mesh.indices.iter().enumerate() {
+                triangles.push([
+                    world[tri[0] as usize],
+                    world[tri[1] as usize],
+                    world[tri[2] as usize],
+                ]);
+                sources.push(TriangleSource {
+                    instance: ii as u32,
+                    local: ti as u32,
+                });
+            }
+            instances.push(InstanceData {
+                normal_matrix: inst.normal_matrix(),
+                material: inst.material.unwrap_or(mesh.material),
+                winding: if inst.flips_winding() { -1.0 } else { 1.0 },
+            });
+        }
+        let accel = Accel::build(&triangles, quality);
+        Self {
+            accel,
+            triangles,
+            sources,
+            instances,
+        }
+    }
+
+    /// Material of a triangle.
+    pub fn material_of(&self, triangle: u32) -> MaterialId {
+        self.instances[self.sources[triangle as usize].instance as usize].material
+    }
+
+    /// Unnormalised front-face normal (length = 2 × area).
+    pub fn front_normal_scaled(&self, triangle: u32) -> Vec3 {
+        let [a, b, c] = self.triangles[triangle as usize];
+        let inst = &self.instances[self.sources[triangle as usize].instance as usize];
+        (b - a).cross(c - a) * inst.winding
+    }
+
+    pub fn area(&self, triangle: u32) -> f32 {
+        0.5 * self.front_normal_scaled(triangle).length()
+    }
+
+    /// Closest surface along `ray`.
+    pub fn intersect(&self, scene: &Scene, ray: &Ray) -> Option<SurfaceHit> {
+        let hit = self.accel.intersect(ray)?;
+        Some(self.surface_at(scene, &hit, ray))
+    }
+
+    fn surface_at(&self, scene: &Scene, hit: &Hit, ray: &Ray) -> SurfaceHit {
+        let src = self.sources[hit.triangle as usize];
+        let inst_data = &self.instances[src.instance as usize];
+        let inst = &scene.instances[src.instance as usize];
+        let mesh = &scene.meshes[inst.mesh];
+        let idx = mesh.indices[src.local as usize];
+        let (b1, b2) = (hit.b1, hit.b2);
+        let b0 = 1.0 - b1 - b2;
+        let ng = self.front_normal_scaled(hit.triangle).normalize_or_zero();
+        let interp3 = |v: &[Vec3]| {
+            v[idx[0] as usize] * b0 + v[idx[1] as usize] * b1 + v[idx[2] as usize] * b2
+        };
+        let mut ns = match &mesh.normals {
+            Some(n) => (inst_data.normal_matrix * interp3(n)).normalize_or_zero(),
+            None => ng,
+        };
+        if ns == Vec3::ZERO {
+            ns = ng;
+        } else if ns.dot(ng) < 0.0 {
+            ns = -ns;
+        }
+        let uv = match &mesh.uv0 {
+            Some(uv) => {
+                uv[idx[0] as usize] * b0 + uv[idx[1] as usize] * b1 + uv[idx[2] as usize] * b2
+            }
+            None => Vec2::new(b1, b2),
+        };
+        // Interpolating the world vertices is more accurate than o + t d.
+        let [a, b, c] = self.triangles[hit.triangle as usize];
+        let p = a * b0 + b * b1 + c * b2;
+        let _ = ray;
+        SurfaceHit {
+            p,
+            t: hit.t,
+            ng,
+            ns,
+            uv,
+            material: inst_data.material,
+            triangle: hit.triangle,
+        }
+    }
+}

@@ -1,0 +1,34 @@
+//! Ambient occlusion: `kA(p) = (1/π) ∫Ω v(p, l) (n·l) dl` (notes 004),
+//! estimated with cosine-weighted directions, for which the estimator is the
+//! visibility itself. Rays longer than `ao_distance` count as unoccluded.
+//! The output is kA in all three channels (1 = fully open).
+
+use super::{PathSample, TraceContext};
+use crate::ray::Ray;
+use penumbra_shading::Rgb;
+use penumbra_shading::sampling::{Sampler, square_to_cosine_hemisphere};
+
+pub fn li(ctx: &TraceContext, ray: &Ray, sampler: &mut Sampler) -> PathSample {
+    let Some(hit) = ctx.geometry.intersect(ctx.scene, ray) else {
+        return PathSample::default();
+    };
+    let wo = -ray.direction;
+    let shading = ctx.shading(&hit, wo);
+    let mut out = ctx.first_hit_aovs(shading.as_ref(), &hit);
+    let Some(s) = shading else { return out };
+    let wi = s
+        .frame
+        .to_world(square_to_cosine_hemisphere(sampler.next_2d()));
+    let ka = if wi.dot(s.ng) > 0.0 {
+        let r = ctx.spawn(&s, wi, ctx.settings.ao_distance);
+        if ctx.geometry.accel.occluded(&r) {
+            0.0
+        } else {
+            1.0
+        }
+    } else {
+        0.0
+    };
+    out.radiance = Rgb::splat(ka);
+    out
+}

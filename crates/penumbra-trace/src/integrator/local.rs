@@ -1,0 +1,48 @@
+//! Local illumination (the notes' direct-light approximation, as in the
+//! real-time pipeline): `Lo = Le + Σ_k f(l_k, v) E_k cos θ_k` over every
+//! light, with **no shadow rays**. Abstract lights are summed exactly; area
+//! lights are estimated with one light sample per camera sample, also
+//! without visibility.
+
+use super::{PathSample, TraceContext};
+use crate::lights::emitted;
+use crate::ray::Ray;
+use penumbra_shading::Rgb;
+use penumbra_shading::sampling::Sampler;
+
+pub fn li(ctx: &TraceContext, ray: &Ray, sampler: &mut Sampler) -> PathSample {
+    let Some(hit) = ctx.geometry.intersect(ctx.scene, ray) else {
+        return PathSample {
+            radiance: ctx.scene.background,
+            ..Default::default()
+        };
+    };
+    let wo = -ray.direction;
+    let material = &ctx.scene.materials[hit.material];
+    let mut radiance = emitted(material.emission, material.double_sided, hit.ng, wo);
+    let shading = ctx.shading(&hit, wo);
+    let mut out = ctx.first_hit_aovs(shading.as_ref(), &hit);
+    if let Some(s) = shading {
+        let mut add = |wi: glam::Vec3, value: Rgb| {
+            let wl = s.frame.to_local(wi);
+            if wl.z > 0.0 {
+                radiance += s.bsdf.eval(s.wo_local, wl) * value * wl.z;
+            }
+        };
+        for l in &ctx.scene.lights {
+            if let Some(ls) = l.light.sample_li(s.hit.p) {
+                add(ls.wi, ls.value);
+            }
+        }
+        let [u_sel, _] = sampler.next_2d();
+        let u = sampler.next_2d();
+        if let Some(c) = ctx
+            .lights
+            .sample_area(ctx.scene, ctx.geometry, s.hit.p, u_sel, u)
+        {
+            add(c.sample.wi, c.sample.value / c.select_pdf);
+        }
+    }
+    out.radiance = radiance;
+    out
+}

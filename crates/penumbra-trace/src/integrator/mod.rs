@@ -1,0 +1,128 @@
+//! Integrators: estimators of the radiance arriving at the camera along a ray.
+
+mod ao;
+mod local;
+mod path;
+
+use crate::geometry::{SceneGeometry, SurfaceHit};
+use crate::lights::LightSampler;
+use crate::ray::{Ray, offset_ray_origin};
+use glam::Vec3;
+use penumbra_scene::{IntegratorKind, RenderSettings, Scene};
+use penumbra_shading::bsdf::{Bsdf, Lambert};
+use penumbra_shading::sampling::Sampler;
+use penumbra_shading::{Frame, Rgb};
+
+/// What one camera sample returns: radiance and the first-hit AOVs.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct PathSample {
+    pub radiance: Rgb,
+    /// Albedo of the first surface hit (0 on a miss).
+    pub albedo: Rgb,
+    /// World-space shading normal of the first hit, facing the camera.
+    pub normal: Vec3,
+    /// Distance along the camera ray to the first hit (0 on a miss).
+    pub depth: f32,
+}
+
+/// Everything an integrator reads; built once per render.
+#[derive(Debug)]
+pub struct TraceContext<'a> {
+    pub scene: &'a Scene,
+    pub geometry: &'a SceneGeometry,
+    pub lights: &'a LightSampler,
+    pub settings: &'a RenderSettings,
+}
+
+/// Local shading state at a surface hit, oriented towards the outgoing
+/// direction for two-sided materials.
+pub(crate) struct Shading {
+    pub hit: SurfaceHit,
+    pub frame: Frame,
+    /// Geometric normal on the side of `wo`.
+    pub ng: Vec3,
+    pub bsdf: Bsdf,
+    pub wo_local: Vec3,
+}
+
+impl TraceContext<'_> {
+    /// Radiance along a camera ray with the configured integrator.
+    pub fn li(&self, ray: &Ray, sampler: &mut Sampler) -> PathSample {
+        match self.settings.integrator {
+            IntegratorKind::Local => local::li(self, ray, sampler),
+            // Direct lighting is path tracing cut at two segments (camera →
+            // surface → light), Mitsuba's `max_depth = 2`.
+            IntegratorKind::Direct => path::li(self, ray, sampler, 2),
+            IntegratorKind::Path => path::li(self, ray, sampler, self.settings.max_depth),
+            IntegratorKind::Ao => ao::li(self, ray, sampler),
+        }
+    }
+
+    /// The BSDF at `hit` (texture applied) in a frame facing `wo`; `None`
+    /// when a one-sided material is seen from its back (black, absorbing).
+    pub(crate) fn shading(&self, hit: &SurfaceHit, wo: Vec3) -> Option<Shading> {
+        let material = &self.scene.materials[hit.material];
+        let (mut ng, mut ns) = (hit.ng, hit.ns);
+        if ng.dot(wo) < 0.0 {
+            if !material.double_sided {
+                return None;
+            }
+            ng = -ng;
+            ns = -ns;
+        }
+        let bsdf = match material.bsdf {
+            Bsdf::Lambert(l) => {
+                let tex = material
+                    .albedo_texture
+                    .map_or(Rgb::ONE, |t| self.scene.textures[t].sample(hit.uv));
+                Bsdf::Lambert(Lambert::new(l.albedo * tex))
+            }
+        };
+        let frame = Frame::from_normal(ns);
+        let mut wo_local = frame.to_local(wo);
+        // Shading normals can put wo below the shading hemisphere at grazing
+        // angles; nudge it onto the surface's side so the BSDF stays defined.
+        if wo_local.z <= 0.0 {
+            wo_local.z = 1e-4;
+            wo_local = wo_local.normalize();
+        }
+        Some(Shading {
+            hit: *hit,
+            frame,
+            ng,
+            bsdf,
+            wo_local,
+        })
+    }
+
+    /// Ray leaving `s` in world direction `wi` (offset to the side of `wi`).
+    pub(crate) fn spawn(&self, s: &Shading, wi: Vec3, tmax: f32) -> Ray {
+        let n = if wi.dot(s.ng) >= 0.0 { s.ng } else { -s.ng };
+        Ray::segment(offset_ray_origin(s.hit.p, n), wi, tmax)
+    }
+
+    /// Shadow ray from `s` towards a light at `distance` along `wi`: unblocked?
+    pub(crate) fn visible(&self, s: &Shading, wi: Vec3, distance: f32) -> bool {
+        let ray = self.spawn(s, wi, f32::INFINITY);
+        // Stop just short of the light so the emitter itself does not occlude.
+        let tmax = if distance.is_finite() {
+            distance * (1.0 - 1e-4)
+        } else {
+            f32::INFINITY
+        };
+        !self
+            .geometry
+            .accel
+            .occluded(&Ray::segment(ray.origin, wi, tmax))
+    }
+
+    /// AOVs of a first hit.
+    pub(crate) fn first_hit_aovs(&self, s: Option<&Shading>, hit: &SurfaceHit) -> PathSample {
+        PathSample {
+            radiance: Rgb::ZERO,
+            albedo: s.map_or(Rgb::ZERO, |s| s.bsdf.albedo()),
+            normal: s.map_or(hit.ns, |s| s.frame.n),
+            depth: hit.t,
+        }
+    }
+}

@@ -1,0 +1,213 @@
+//! Light selection and sampling for the integrators: the scene's abstract
+//! lights plus every emissive triangle (area lights), chosen in proportion to
+//! emitted power.
+
+use crate::distribution::Distribution1D;
+use crate::geometry::SceneGeometry;
+use glam::Vec3;
+use penumbra_scene::Scene;
+use penumbra_shading::Rgb;
+use penumbra_shading::color::luminance;
+use penumbra_shading::light::LightSample;
+use penumbra_shading::sampling::square_to_triangle;
+use std::f32::consts::PI;
+
+/// One selectable light.
+#[derive(Clone, Copy, Debug)]
+enum Entry {
+    /// Index into `Scene::lights`.
+    Abstract(usize),
+    /// Emissive triangle (index in [`SceneGeometry`]).
+    Triangle {
+        triangle: u32,
+        radiance: Rgb,
+        double_sided: bool,
+    },
+}
+
+/// A sampled light with the probability of having chosen it.
+#[derive(Clone, Copy, Debug)]
+pub struct ChosenLight {
+    pub sample: LightSample,
+    /// Probability of having selected this light; `sample.value` does not
+    /// include it, so estimators divide by it.
+    pub select_pdf: f32,
+}
+
+#[derive(Debug)]
+pub struct LightSampler {
+    entries: Vec<Entry>,
+    /// All lights, by power.
+    all: Distribution1D,
+    /// Indices (into `entries`) of the area lights, and their distribution.
+    area_entries: Vec<usize>,
+    area: Distribution1D,
+    /// For each geometry triangle: its entry index, or u32::MAX.
+    entry_of_triangle: Vec<u32>,
+}
+
+/// Power of one emissive triangle, `Φ = π L A` per emitting side.
+fn triangle_power(radiance: Rgb, area: f32, double_sided: bool) -> f32 {
+    luminance(radiance) * PI * area * if double_sided { 2.0 } else { 1.0 }
+}
+
+impl LightSampler {
+    pub fn new(scene: &Scene, geometry: &SceneGeometry) -> Self {
+        let radius = scene
+            .bounds()
+            .map_or(1.0, |(lo, hi)| 0.5 * (hi - lo).length())
+            .max(1e-3);
+        let mut entries = Vec::new();
+        let mut weights = Vec::new();
+        for (i, l) in scene.lights.iter().enumerate() {
+            entries.push(Entry::Abstract(i));
+            weights.push(luminance(l.light.power(radius)));
+        }
+        let mut entry_of_triangle = vec![u32::MAX; geometry.triangles.len()];
+        let mut area_entries = Vec::new();
+        for t in 0..geometry.triangles.len() as u32 {
+            let m = &scene.materials[geometry.material_of(t)];
+            if !m.is_emissive() {
+                continue;
+            }
+            let area = geometry.area(t);
+            let w = triangle_power(m.emission, area, m.double_sided);
+            if w <= 0.0 {
+                continue;
+            }
+            entry_of_triangle[t as usize] = entries.len() as u32;
+            area_entries.push(entries.len());
+            entries.push(Entry::Triangle {
+                triangle: t,
+                radiance: m.emission,
+                double_sided: m.double_sided,
+            });
+            weights.push(w);
+        }
+        let area = Distribution1D::new(area_entries.iter().map(|&e| weights[e]));
+        let all = Distribution1D::new(weights);
+        Self {
+            entries,
+            all,
+            area_entries,
+            area,
+            entry_of_triangle,
+        }
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.all.is_empty()
+    }
+
+    /// Picks a light by power and samples it from `p`.
+    pub fn sample(
+        &self,
+        scene: &Scene,
+        geometry: &SceneGeometry,
+        p: Vec3,
+        u_select: f32,
+        u: [f32; 2],
+    ) -> Option<ChosenLight> {
+        let (i, select_pdf) = self.all.sample(u_select)?;
+        let sample = self.sample_entry(scene, geometry, i, p, u)?;
+        Some(ChosenLight { sample, select_pdf })
+    }
+
+    /// Picks an area light by power (the `local` integrator treats abstract
+    /// lights exactly and needs only area lights sampled).
+    pub fn sample_area(
+        &self,
+        scene: &Scene,
+        geometry: &SceneGeometry,
+        p: Vec3,
+        u_select: f32,
+        u: [f32; 2],
+    ) -> Option<ChosenLight> {
+        let (k, select_pdf) = self.area.sample(u_select)?;
+        let sample = self.sample_entry(scene, geometry, self.area_entries[k], p, u)?;
+        Some(ChosenLight { sample, select_pdf })
+    }
+
+    fn sample_entry(
+        &self,
+        scene: &Scene,
+        geometry: &SceneGeometry,
+        i: usize,
+        p: Vec3,
+        u: [f32; 2],
+    ) -> Option<LightSample> {
+        match self.entries[i] {
+            Entry::Abstract(l) => scene.lights[l].light.sample_li(p),
+            Entry::Triangle {
+                triangle,
+                radiance,
+                double_sided,
+            } => {
+                let [a, b, c] = geometry.triangles[triangle as usize];
+                let bary = square_to_triangle(u);
+                let q = a * (1.0 - bary.x - bary.y) + b * bary.x + c * bary.y;
+                let n2 = geometry.front_normal_scaled(triangle);
+                let area = 0.5 * n2.length();
+                let n = n2 / (2.0 * area);
+                let d = q - p;
+                let dist2 = d.length_squared();
+                if dist2 <= 0.0 || area <= 0.0 {
+                    return None;
+                }
+                let dist = dist2.sqrt();
+                let wi = d / dist;
+                let cos_light = -wi.dot(n);
+                if cos_light <= 0.0 && !double_sided {
+                    return None;
+                }
+                let cos_light = cos_light.abs();
+                if cos_light <= 1e-7 {
+                    return None;
+                }
+                // Area density 1/A → solid angle: pdf = d² / (A |cos θl|).
+                let pdf = dist2 / (area * cos_light);
+                Some(LightSample {
+                    wi,
+                    distance: dist,
+                    value: radiance / pdf,
+                    pdf,
+                    is_delta: false,
+                })
+            }
+        }
+    }
+
+    /// Solid-angle pdf with which [`LightSampler::sample`] would pick the
+    /// point `q` on emissive `triangle` (normal `ng`) from `p`, including
+    /// the selection probability. 0 for non-emitters.
+    pub fn pdf_triangle(
+        &self,
+        geometry: &SceneGeometry,
+        triangle: u32,
+        p: Vec3,
+        q: Vec3,
+        ng: Vec3,
+    ) -> f32 {
+        let e = self.entry_of_triangle[triangle as usize];
+        if e == u32::MAX {
+            return 0.0;
+        }
+        let d = q - p;
+        let dist2 = d.length_squared();
+        let cos = (d.normalize_or_zero().dot(ng)).abs();
+        if cos <= 1e-7 {
+            return 0.0;
+        }
+        self.all.pmf(e as usize) * dist2 / (geometry.area(triangle) * cos)
+    }
+}
+
+/// Radiance emitted by material emission `le` towards direction `wo` from a
+/// surface with front normal `ng` (front side only unless double-sided).
+pub fn emitted(le: Rgb, double_sided: bool, ng: Vec3, wo: Vec3) -> Rgb {
+    if double_sided || ng.dot(wo) > 0.0 {
+        le
+    } else {
+        Rgb::ZERO
+    }
+}

@@ -1,0 +1,83 @@
+//! Rays and robust spawning of secondary rays.
+
+use glam::Vec3;
+
+/// A ray `o + t d`, `t ∈ (0, tmax)`. `d` is unit length for all rays penumbra
+/// spawns, so `t` is a distance.
+#[derive(Clone, Copy, Debug)]
+pub struct Ray {
+    pub origin: Vec3,
+    pub direction: Vec3,
+    pub tmax: f32,
+}
+
+impl Ray {
+    pub fn new(origin: Vec3, direction: Vec3) -> Self {
+        Self {
+            origin,
+            direction,
+            tmax: f32::INFINITY,
+        }
+    }
+
+    pub fn segment(origin: Vec3, direction: Vec3, tmax: f32) -> Self {
+        Self {
+            origin,
+            direction,
+            tmax,
+        }
+    }
+
+    pub fn at(&self, t: f32) -> Vec3 {
+        self.origin + self.direction * t
+    }
+}
+
+/// Moves a surface point off the surface along the geometric normal `n`
+/// (pointing to the side the new ray leaves from) so the new ray cannot hit
+/// the surface it starts on.
+///
+/// Wächter & Binder 2019, "A Fast and Robust Method for Avoiding
+/// Self-Intersection" (Ray Tracing Gems, ch. 6): offset by a fixed number of
+/// ulps of each coordinate (256·n in integer ulps), and by a small absolute
+/// amount (n/65536) near the origin where ulps are tiny.
+pub fn offset_ray_origin(p: Vec3, n: Vec3) -> Vec3 {
+    const ORIGIN: f32 = 1.0 / 32.0;
+    const FLOAT_SCALE: f32 = 1.0 / 65536.0;
+    const INT_SCALE: f32 = 256.0;
+    let offset = |pc: f32, nc: f32| -> f32 {
+        if pc.abs() < ORIGIN {
+            return pc + FLOAT_SCALE * nc;
+        }
+        let of_i = (INT_SCALE * nc) as i32;
+        let bits = pc.to_bits() as i32;
+        let moved = if pc < 0.0 {
+            bits.wrapping_sub(of_i)
+        } else {
+            bits.wrapping_add(of_i)
+        };
+        f32::from_bits(moved as u32)
+    };
+    Vec3::new(offset(p.x, n.x), offset(p.y, n.y), offset(p.z, n.z))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn offset_moves_to_the_normal_side() {
+        for p in [
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(1000.0, -200.0, 3.0),
+            Vec3::new(-5e5, 1e-3, 7.0),
+        ] {
+            for n in [Vec3::X, -Vec3::Y, Vec3::new(0.3, -0.4, 0.866).normalize()] {
+                let q = offset_ray_origin(p, n);
+                assert!((q - p).dot(n) > 0.0, "{p} {n} {q}");
+                // 256 ulps ≈ 256 · 2⁻²³ · |p| per coordinate, or 1/65536 near 0.
+                assert!((q - p).length() < 1e-4 + p.abs().max_element() * 6e-5);
+            }
+        }
+    }
+}

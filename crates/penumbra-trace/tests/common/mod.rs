@@ -1,0 +1,36 @@
+//! Scene builders shared by the tracer's tests.
+#![allow(dead_code)]
+
+use glam::{Mat4, Vec3};
+use penumbra_scene::{Camera, Material, Mesh, Projection, Scene};
+use penumbra_shading::Rgb;
+
+/// A quad with corner `c` and edges `e1`, `e2`; front normal e1 × e2.
+pub fn quad(c: Vec3, e1: Vec3, e2: Vec3, material: usize) -> Mesh {
+    Mesh {
+        name: "quad".into(),
+        positions: vec![c, c + e1, c + e1 + e2, c + e2],
+        indices: vec![[0, 1, 2], [0, 2, 3]],
+        material,
+        ..Default::default()
+    }
+}
+
+/// Adds a mesh with an identity transform.
+pub fn add(scene: &mut Scene, mesh: Mesh) {
+    scene.add_mesh(mesh, Mat4::IDENTITY);
+}
+
+/// Orthographic camera looking straight down −y at `target`, view height `h`.
+pub fn top_down_camera(target: Vec3, h: f32) -> Camera {
+    Camera::look_at(
+        target + Vec3::Y * 10.0,
+        target,
+        Vec3::Z,
+        Projection::Orthographic { height: h },
+    )
+}
+
+pub fn lambert(scene: &mut Scene, albedo: f32) -> usize {
+    scene.add_material(Material::lambert("m", Rgb::splat(albedo)))
+}

@@ -1,0 +1,49 @@
+//! Watertightness: rays from inside a closed mesh aimed exactly at its shared
+//! edges and vertices never escape.
+
+use glam::Vec3;
+use penumbra_shading::sampling::Sampler;
+use penumbra_trace::accel::{Accel, BuildQuality};
+use penumbra_trace::bench::bench_mesh;
+use penumbra_trace::ray::Ray;
+
+#[test]
+fn a_million_rays_at_edges_and_vertices_never_pass_through() {
+    let mesh = bench_mesh(20_000);
+    let tris: Vec<[Vec3; 3]> = mesh
+        .indices
+        .iter()
+        .map(|t| t.map(|i| mesh.positions[i as usize] * 7.3 + Vec3::new(100.0, -20.0, 3.0)))
+        .collect();
+    let accel = Accel::build(&tris, BuildQuality::Medium);
+    accel.validate().unwrap();
+    let centre = Vec3::new(100.0, -20.0, 3.0);
+    let n_rays = 1_000_000u32;
+    let mut misses = 0;
+    for i in 0..n_rays {
+        let mut s = Sampler::new(i, 0, 0, 11);
+        let [u, v] = s.next_2d();
+        let [w, _] = s.next_2d();
+        let t = &tris[((u * tris.len() as f32) as usize).min(tris.len() - 1)];
+        let e = ((v * 3.0) as usize).min(2);
+        // Half the rays at a vertex, half at a point on an edge.
+        let target = if i % 2 == 0 {
+            t[e]
+        } else {
+            t[e] + (t[(e + 1) % 3] - t[e]) * w
+        };
+        // Origins scattered inside the (star-shaped) mesh around its centre.
+        let o = centre + (Vec3::new(u, v, w) - 0.5) * 2.0;
+        let d = target - o;
+        if d.length_squared() == 0.0 {
+            continue;
+        }
+        if accel.intersect(&Ray::new(o, d.normalize())).is_none() {
+            misses += 1;
+        }
+    }
+    assert_eq!(
+        misses, 0,
+        "{misses} of {n_rays} rays escaped the closed mesh"
+    );
+}
