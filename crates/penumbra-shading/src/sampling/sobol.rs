@@ -60,8 +60,8 @@ const SOBOL_DIM1: [u32; 32] = {
     v
 };
 
-#[inline]
-fn sobol_dim1(index: u32) -> u32 {
+/// Sobol dimension 1 by the bit loop (the definition; used to build tables).
+const fn sobol_dim1_by_bits(index: u32) -> u32 {
     let mut r = 0;
     let mut i = index;
     let mut k = 0;
@@ -73,6 +73,31 @@ fn sobol_dim1(index: u32) -> u32 {
         k += 1;
     }
     r
+}
+
+/// The generator matrix is linear over GF(2), so the product splits into
+/// one table per index byte: `x = T0[b0] ^ T1[b1] ^ T2[b2] ^ T3[b3]`.
+const SOBOL_DIM1_BYTE_TABLES: [[u32; 256]; 4] = {
+    let mut t = [[0u32; 256]; 4];
+    let mut byte = 0;
+    while byte < 4 {
+        let mut v = 0;
+        while v < 256 {
+            t[byte][v] = sobol_dim1_by_bits((v as u32) << (8 * byte));
+            v += 1;
+        }
+        byte += 1;
+    }
+    t
+};
+
+#[inline]
+fn sobol_dim1(index: u32) -> u32 {
+    let t = &SOBOL_DIM1_BYTE_TABLES;
+    t[0][(index & 0xff) as usize]
+        ^ t[1][((index >> 8) & 0xff) as usize]
+        ^ t[2][((index >> 16) & 0xff) as usize]
+        ^ t[3][(index >> 24) as usize]
 }
 
 #[inline]
@@ -108,7 +133,9 @@ impl Sampler {
         let dim_seed = hash_combine(self.pixel_seed, self.dimension);
         self.dimension += 1;
         let shuffled = nested_uniform_scramble(self.index, dim_seed);
-        let a = nested_uniform_scramble(shuffled.reverse_bits(), hash_combine(dim_seed, 1));
+        // Dimension 0 is the bit reversal of the index, so its Owen scramble
+        // reverse(LK(reverse(reverse(i)))) is reverse(LK(i)).
+        let a = laine_karras_permutation(shuffled, hash_combine(dim_seed, 1)).reverse_bits();
         let b = nested_uniform_scramble(sobol_dim1(shuffled), hash_combine(dim_seed, 2));
         [to_unit_float(a), to_unit_float(b)]
     }
@@ -168,6 +195,18 @@ mod tests {
         }
         assert!((sum[0] / n as f64 - 0.5).abs() < 0.003);
         assert!((sum[1] / n as f64 - 0.5).abs() < 0.003);
+    }
+
+    #[test]
+    fn table_sobol_matches_definition() {
+        let mut x = 1u32;
+        for _ in 0..100_000 {
+            x = hash_u32(x);
+            assert_eq!(sobol_dim1(x), sobol_dim1_by_bits(x));
+        }
+        for i in 0..4096 {
+            assert_eq!(sobol_dim1(i), sobol_dim1_by_bits(i));
+        }
     }
 
     #[test]

@@ -111,7 +111,7 @@ impl Accel {
         let mut hit = obvhs::ray::RayHit::none();
         let found = self.bvh.ray_traverse(r, &mut hit, |r, id| {
             let [a, b, c] = self.ordered[id];
-            wt.intersect(a.into(), b.into(), c.into(), r.tmax)
+            wt.intersect_a(a, b, c, r.tmax)
                 .map_or(f32::INFINITY, |h| h.t)
         });
         if !found {
@@ -119,7 +119,7 @@ impl Accel {
         }
         let id = hit.primitive_id as usize;
         let [a, b, c] = self.ordered[id];
-        let h = wt.intersect(a.into(), b.into(), c.into(), f32::INFINITY)?;
+        let h = wt.intersect_a(a, b, c, f32::INFINITY)?;
         Some(Hit {
             triangle: self.bvh.primitive_indices[id],
             t: h.t,
@@ -138,7 +138,7 @@ impl Accel {
         let r = obvhs::ray::Ray::new(ray.origin.into(), ray.direction.into(), 0.0, ray.tmax);
         !self.bvh.ray_traverse_miss(r, |r, id| {
             let [a, b, c] = self.ordered[id];
-            wt.intersect(a.into(), b.into(), c.into(), r.tmax)
+            wt.intersect_a(a, b, c, r.tmax)
                 .map_or(f32::INFINITY, |h| h.t)
         })
     }

@@ -7,18 +7,19 @@
 //! triangles give exactly opposite values, so a ray through an edge or vertex
 //! hits at least one of them. Zero edge functions fall back to f64.
 
-use glam::Vec3;
+use glam::{Vec3, Vec3A};
 
-/// Per-ray precomputation (axis permutation and shear).
+/// Per-ray precomputation: the permutation and shear as three row vectors,
+/// so that the sheared vertex is `(rx·a, ry·a, rz·a)` with `a = p − o`. Each
+/// row has at most two non-zero entries, so every dot product rounds exactly
+/// like the textbook `a[kx] − sx·a[kz]` (adding exact zeros), and the same
+/// vertex gives the same values in every triangle that shares it.
 #[derive(Clone, Copy, Debug)]
 pub struct WatertightRay {
-    origin: Vec3,
-    kx: usize,
-    ky: usize,
-    kz: usize,
-    sx: f32,
-    sy: f32,
-    sz: f32,
+    origin: Vec3A,
+    rx: Vec3A,
+    ry: Vec3A,
+    rz: Vec3A,
 }
 
 /// A hit: distance and barycentrics (b1 for v1, b2 for v2).
@@ -27,6 +28,14 @@ pub struct TriangleHit {
     pub t: f32,
     pub b1: f32,
     pub b2: f32,
+}
+
+fn axis(k: usize) -> Vec3A {
+    match k {
+        0 => Vec3A::X,
+        1 => Vec3A::Y,
+        _ => Vec3A::Z,
+    }
 }
 
 impl WatertightRay {
@@ -45,30 +54,30 @@ impl WatertightRay {
             std::mem::swap(&mut kx, &mut ky);
         }
         let sz = 1.0 / dir[kz];
+        let (sx, sy) = (dir[kx] * sz, dir[ky] * sz);
         Self {
-            origin,
-            kx,
-            ky,
-            kz,
-            sx: dir[kx] * sz,
-            sy: dir[ky] * sz,
-            sz,
+            origin: origin.into(),
+            rx: axis(kx) - sx * axis(kz),
+            ry: axis(ky) - sy * axis(kz),
+            rz: sz * axis(kz),
         }
     }
 
     /// Intersects triangle (p0, p1, p2) within (0, tmax).
     #[inline]
     pub fn intersect(&self, p0: Vec3, p1: Vec3, p2: Vec3, tmax: f32) -> Option<TriangleHit> {
+        self.intersect_a(p0.into(), p1.into(), p2.into(), tmax)
+    }
+
+    /// [`WatertightRay::intersect`] on SIMD-aligned vertices.
+    #[inline]
+    pub fn intersect_a(&self, p0: Vec3A, p1: Vec3A, p2: Vec3A, tmax: f32) -> Option<TriangleHit> {
         let a = p0 - self.origin;
         let b = p1 - self.origin;
         let c = p2 - self.origin;
-        let (kx, ky, kz) = (self.kx, self.ky, self.kz);
-        let ax = a[kx] - self.sx * a[kz];
-        let ay = a[ky] - self.sy * a[kz];
-        let bx = b[kx] - self.sx * b[kz];
-        let by = b[ky] - self.sy * b[kz];
-        let cx = c[kx] - self.sx * c[kz];
-        let cy = c[ky] - self.sy * c[kz];
+        let (ax, ay) = (self.rx.dot(a), self.ry.dot(a));
+        let (bx, by) = (self.rx.dot(b), self.ry.dot(b));
+        let (cx, cy) = (self.rx.dot(c), self.ry.dot(c));
         let mut u = cx * by - cy * bx;
         let mut v = ax * cy - ay * cx;
         let mut w = bx * ay - by * ax;
@@ -84,10 +93,7 @@ impl WatertightRay {
         if det == 0.0 {
             return None;
         }
-        let az = self.sz * a[kz];
-        let bz = self.sz * b[kz];
-        let cz = self.sz * c[kz];
-        let t_scaled = u * az + v * bz + w * cz;
+        let t_scaled = u * self.rz.dot(a) + v * self.rz.dot(b) + w * self.rz.dot(c);
         // t = t_scaled / det must lie in (0, tmax); compare without dividing
         // by the sign of det.
         if det < 0.0 && (t_scaled >= 0.0 || t_scaled < tmax * det) {
