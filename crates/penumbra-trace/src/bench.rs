@@ -55,31 +55,33 @@ pub fn camera_rays(camera: &Camera, width: u32, height: u32) -> Vec<Ray> {
     rays
 }
 
-/// Incoherent rays: from the first hits of `primary` rays, in uniformly
-/// random directions (fixed seed), offset off the surface.
+/// Incoherent rays: from the first hits of `primary` rays, `per_hit` rays
+/// each in uniformly random directions over the full sphere (fixed seed),
+/// offset off the surface to the side they leave from.
 pub fn incoherent_rays(
     accel: &Accel,
     triangles: &[[Vec3; 3]],
     primary: &[Ray],
+    per_hit: u32,
     seed: u32,
 ) -> Vec<Ray> {
     primary
         .par_iter()
         .enumerate()
-        .filter_map(|(i, r)| {
-            let h = accel.intersect(r)?;
-            let [a, b, c] = triangles[h.triangle as usize];
-            let p = a * (1.0 - h.b1 - h.b2) + b * h.b1 + c * h.b2;
-            let mut n = (b - a).cross(c - a).normalize_or_zero();
-            if n.dot(r.direction) > 0.0 {
-                n = -n;
-            }
-            let mut s = Sampler::new(i as u32, 0, 0, seed);
-            let mut d = square_to_uniform_sphere(s.next_2d());
-            if d.dot(n) < 0.0 {
-                d = -d;
-            }
-            Some(Ray::new(offset_ray_origin(p, n), d))
+        .flat_map_iter(|(i, r)| {
+            let hit = accel.intersect(r).map(|h| {
+                let [a, b, c] = triangles[h.triangle as usize];
+                let p = a * (1.0 - h.b1 - h.b2) + b * h.b1 + c * h.b2;
+                (p, (b - a).cross(c - a).normalize_or_zero())
+            });
+            hit.into_iter().flat_map(move |(p, n)| {
+                (0..per_hit).map(move |k| {
+                    let mut s = Sampler::new(i as u32, k, 0, seed);
+                    let d = square_to_uniform_sphere(s.next_2d());
+                    let side = if d.dot(n) >= 0.0 { n } else { -n };
+                    Ray::new(offset_ray_origin(p, side), d)
+                })
+            })
         })
         .collect()
 }

@@ -64,6 +64,19 @@ fn mesh_scene(mesh: penumbra_scene::Mesh) -> Scene {
         }),
     });
     scene.background = Rgb::splat(0.2);
+    // Frame the mesh so that it fills the view: most camera rays hit it.
+    if let Some((lo, hi)) = scene.bounds() {
+        let centre = 0.5 * (lo + hi);
+        let half = 0.5 * (hi - lo);
+        let fov_y = 40f32.to_radians();
+        let eye = centre + Vec3::Z * (half.z + half.y.max(half.x) / (0.5 * fov_y).tan() * 0.9);
+        scene.camera = Some(Camera::look_at(
+            eye,
+            centre,
+            Vec3::Y,
+            Projection::Perspective { fov_y },
+        ));
+    }
     scene
 }
 
@@ -88,7 +101,10 @@ fn report(m: &Measure, json: bool, unit: &str) {
         let hits = if m.name == "build" || m.name == "path" {
             String::new()
         } else {
-            format!(", {} hits", m.hits)
+            format!(
+                ", {:.1} % hit",
+                100.0 * m.hits as f64 / m.count.max(1) as f64
+            )
         };
         println!(
             "{:<12} {:>10.4} s  {:>9.3} {unit}  ({} items{hits})",
@@ -157,17 +173,9 @@ fn run_measures(args: &BenchArgs, scene: &Scene) -> Result<()> {
         );
         return Ok(());
     }
-    let mut camera = scene_camera(scene);
-    if scene.camera.is_none() {
-        camera = Camera {
-            projection: Projection::Perspective {
-                fov_y: 40f32.to_radians(),
-            },
-            ..camera
-        };
-    }
+    let camera = scene_camera(scene);
     let coherent = camera_rays(&camera, args.ray_resolution, args.ray_resolution);
-    let incoherent = incoherent_rays(&accel, &geometry.triangles, &coherent, 7);
+    let incoherent = incoherent_rays(&accel, &geometry.triangles, &coherent, 4, 7);
     if let Some(base) = &args.write_rays {
         for (suffix, set) in [("coherent", &coherent), ("incoherent", &incoherent)] {
             let p = PathBuf::from(format!("{}.{suffix}", base.display()));
