@@ -55,13 +55,7 @@ pub(crate) fn encode(
         format: "EXR",
         message,
     };
-    img.validate("image").map_err(|e| err(e.to_string()))?;
-    if img.is_empty() {
-        return Err(err(format!(
-            "image has zero size ({}x{})",
-            img.width, img.height
-        )));
-    }
+    crate::io::check_encodable(img, &err)?;
     let mut channels: Vec<AnyChannel<FlatSamples>> = Vec::with_capacity(3 * (1 + aovs.len()));
     push_rgb(&mut channels, "", img);
     let mut names = HashSet::new();

@@ -153,6 +153,23 @@ pub fn read_image(path: &Path) -> Result<Image, ImageError> {
     }
 }
 
+/// Refuses images an encoder cannot write: non-finite data is allowed
+/// (EXR stores it), but the buffer must match its size and not be empty.
+/// `err` wraps a message in the encoder's error.
+pub(crate) fn check_encodable(
+    img: &Image,
+    err: &dyn Fn(String) -> ImageError,
+) -> Result<(), ImageError> {
+    img.validate("image").map_err(|e| err(e.to_string()))?;
+    if img.is_empty() {
+        return Err(err(format!(
+            "image has zero size ({}x{})",
+            img.width, img.height
+        )));
+    }
+    Ok(())
+}
+
 pub(crate) fn read_file(path: &Path) -> Result<Vec<u8>, ImageError> {
     fs::read(path).map_err(|cause| ImageError::Io {
         path: path.to_path_buf(),

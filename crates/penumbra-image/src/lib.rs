@@ -19,7 +19,7 @@ pub mod png_io;
 pub mod tonemap;
 
 /// Linear Rec.709 RGB radiance (or any linear RGB quantity, e.g. an albedo AOV).
-pub type Rgb = glam::Vec3;
+pub use penumbra_shading::Rgb;
 
 pub use crate::buffer::Image;
 pub use crate::error::ImageError;

@@ -20,13 +20,7 @@ pub(crate) fn encode(path: &Path, img: &Image, tm: &ToneMapping) -> Result<Vec<u
         format: "PNG",
         message,
     };
-    img.validate("image").map_err(|e| err(e.to_string()))?;
-    if img.is_empty() {
-        return Err(err(format!(
-            "image has zero size ({}x{})",
-            img.width, img.height
-        )));
-    }
+    crate::io::check_encodable(img, &err)?;
     let bytes = tonemap_to_srgb8(img, tm);
     let mut out = Vec::new();
     guard(

@@ -127,25 +127,10 @@ pub fn aces_filmic(x: f32) -> f32 {
     ((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14)).clamp(0.0, 1.0)
 }
 
-/// sRGB OETF (IEC 61966-2-1), linear → encoded:
-/// `12.92 L` for `L ≤ 0.0031308`, else `1.055 L^(1/2.4) − 0.055`.
-pub fn srgb_oetf(linear: f32) -> f32 {
-    if linear <= 0.003_130_8 {
-        12.92 * linear
-    } else {
-        1.055 * linear.powf(1.0 / 2.4) - 0.055
-    }
-}
-
-/// sRGB EOTF (inverse of [`srgb_oetf`]), encoded → linear:
-/// `V / 12.92` for `V ≤ 0.04045`, else `((V + 0.055) / 1.055)^2.4`.
-pub fn srgb_eotf(encoded: f32) -> f32 {
-    if encoded <= 0.040_45 {
-        encoded / 12.92
-    } else {
-        ((encoded + 0.055) / 1.055).powf(2.4)
-    }
-}
+/// sRGB OETF (IEC 61966-2-1), linear → encoded; the shading crate's.
+pub use penumbra_shading::color::linear_to_srgb as srgb_oetf;
+/// sRGB EOTF, encoded → linear; the shading crate's.
+pub use penumbra_shading::color::srgb_to_linear as srgb_eotf;
 
 /// `⌊255 · clamp(v, 0, 1) + 0.5⌋`; NaN → 0.
 pub(crate) fn quantize(v: f32) -> u8 {

@@ -24,10 +24,10 @@ pub struct RenderArgs {
     #[arg(long, value_parser = |s: &str| s.parse::<IntegratorKind>())]
     pub integrator: Option<IntegratorKind>,
     /// Samples per pixel.
-    #[arg(long, value_parser = parse_positive)]
+    #[arg(long, value_parser = parse_positive, allow_negative_numbers = true)]
     pub spp: Option<u32>,
     /// Maximum path segments from the camera (Mitsuba's max_depth: 1 = emitters only, 2 = direct light).
-    #[arg(long, value_parser = parse_positive)]
+    #[arg(long, value_parser = parse_positive, allow_negative_numbers = true)]
     pub max_depth: Option<u32>,
     /// Image size WIDTHxHEIGHT.
     #[arg(long, value_parser = parse_resolution)]
@@ -36,13 +36,13 @@ pub struct RenderArgs {
     #[arg(long)]
     pub seed: Option<u32>,
     /// Worker threads (default: all cores).
-    #[arg(long, value_parser = parse_positive)]
+    #[arg(long, value_parser = parse_positive, allow_negative_numbers = true)]
     pub threads: Option<u32>,
     /// Stop after this many seconds (at the end of a sample pass).
-    #[arg(long, value_parser = parse_seconds)]
+    #[arg(long, value_parser = parse_seconds, allow_negative_numbers = true)]
     pub time_limit: Option<f64>,
     /// Ambient-occlusion ray length in scene units (default: unlimited).
-    #[arg(long, value_parser = parse_seconds)]
+    #[arg(long, value_parser = parse_seconds, allow_negative_numbers = true)]
     pub ao_distance: Option<f64>,
     /// Also write albedo, normal and depth layers (EXR only).
     #[arg(long)]

@@ -1,0 +1,205 @@
+//! The `penumbra` binary: errors exit non-zero, name the problem and leave no
+//! output file; good runs write the file.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn penumbra(args: &[&str], dir: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_penumbra"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("run penumbra")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn reference(scene: &str, file: &str) -> String {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../../shared/reference")
+        .join(scene)
+        .join(file)
+        .display()
+        .to_string()
+}
+
+fn files_in(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
+
+#[test]
+fn bad_arguments_fail_without_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let cases: &[(&[&str], &str)] = &[
+        (&["render", "--spp", "0", "-o", "a.png"], "--spp"),
+        (&["render", "--spp", "-3", "-o", "a.png"], "--spp"),
+        (
+            &["render", "--resolution", "0x10", "-o", "a.png"],
+            "width 0",
+        ),
+        (
+            &["render", "--resolution", "64", "-o", "a.png"],
+            "WIDTHxHEIGHT",
+        ),
+        (
+            &["render", "--resolution", "60000x60000", "-o", "a.png"],
+            "memory",
+        ),
+        (
+            &["render", "--integrator", "whatever", "-o", "a.png"],
+            "unknown integrator 'whatever'",
+        ),
+        (&["render", "-o", "missing-dir/a.png"], "missing-dir"),
+        (&["render", "-o", "a.tiff"], "a.tiff"),
+        (
+            &["render", "no-such-scene.gltf", "-o", "a.png"],
+            "no-such-scene.gltf",
+        ),
+        (
+            &["render", "scene.blend", "-o", "a.png"],
+            "unknown scene format",
+        ),
+        (&["info", "no-such-scene.obj"], "no-such-scene.obj"),
+        (&["compare", "no-ref.exr", "no-test.exr"], "no-ref.exr"),
+    ];
+    for (args, expected) in cases {
+        let o = penumbra(args, d);
+        assert!(!o.status.success(), "{args:?} should fail");
+        assert!(
+            stderr(&o).contains(expected),
+            "{args:?}: stderr does not mention '{expected}':\n{}",
+            stderr(&o)
+        );
+        assert!(!stderr(&o).contains("panicked"), "{args:?} panicked");
+        assert!(
+            files_in(d).is_empty(),
+            "{args:?} left files: {:?}",
+            files_in(d)
+        );
+    }
+}
+
+#[test]
+fn corrupt_scene_names_file_and_place() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("broken.gltf");
+    std::fs::write(&scene, r#"{"asset": {"version": "3.0"}}"#).unwrap();
+    let o = penumbra(
+        &["render", scene.to_str().unwrap(), "-o", "out.png"],
+        dir.path(),
+    );
+    assert!(!o.status.success());
+    let e = stderr(&o);
+    assert!(
+        e.contains("broken.gltf") && e.contains("asset.version"),
+        "{e}"
+    );
+    assert!(!dir.path().join("out.png").exists());
+}
+
+#[test]
+fn render_info_compare_round_trip() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let scene = reference("spheres-direct", "spheres-direct.gltf");
+    let o = penumbra(
+        &[
+            "render",
+            &scene,
+            "--integrator",
+            "direct",
+            "--spp",
+            "4",
+            "--resolution",
+            "64x64",
+            "-o",
+            "a.exr",
+            "--aovs",
+        ],
+        d,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = penumbra(
+        &[
+            "render",
+            &scene,
+            "--integrator",
+            "direct",
+            "--spp",
+            "4",
+            "--resolution",
+            "64x64",
+            "-o",
+            "a.png",
+        ],
+        d,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(files_in(d), vec!["a.exr".to_string(), "a.png".to_string()]);
+    let o = penumbra(
+        &[
+            "compare",
+            "a.exr",
+            "a.exr",
+            "--json",
+            "--heatmap",
+            "heat.png",
+        ],
+        d,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        out.contains("\"rmse\":0") && out.contains("\"flip\":0"),
+        "{out}"
+    );
+    assert!(d.join("heat.png").exists());
+    let o = penumbra(&["info", &scene], d);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        o.status.success() && out.contains("triangles:  15362") && out.contains("lights:     2"),
+        "{out}"
+    );
+}
+
+#[test]
+fn bench_json_lines() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = penumbra(
+        &[
+            "bench",
+            "--triangles",
+            "20000",
+            "--ray-resolution",
+            "64",
+            "--spp",
+            "1",
+            "--json",
+        ],
+        dir.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    for measure in ["build", "coherent", "incoherent", "path"] {
+        let line = out
+            .lines()
+            .find(|l| l.contains(&format!("\"measure\":\"{measure}\"")))
+            .unwrap_or_else(|| panic!("no {measure} in {out}"));
+        assert!(
+            line.starts_with('{') && line.ends_with('}') && line.contains("\"seconds\":"),
+            "{line}"
+        );
+    }
+    assert!(
+        out.lines().filter(|l| l.contains("mrays_per_s")).count() == 2,
+        "{out}"
+    );
+}
