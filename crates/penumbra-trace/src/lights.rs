@@ -22,6 +22,9 @@ enum Entry {
         triangle: u32,
         radiance: Rgb,
         double_sided: bool,
+        /// Area and unit front normal, computed once.
+        area: f32,
+        normal: Vec3,
     },
 }
 
@@ -77,10 +80,13 @@ impl LightSampler {
             }
             entry_of_triangle[t as usize] = entries.len() as u32;
             area_entries.push(entries.len());
+            let normal = geometry.front_normal_scaled(t).normalize_or_zero();
             entries.push(Entry::Triangle {
                 triangle: t,
                 radiance: m.emission,
                 double_sided: m.double_sided,
+                area,
+                normal,
             });
             weights.push(w);
         }
@@ -142,13 +148,12 @@ impl LightSampler {
                 triangle,
                 radiance,
                 double_sided,
+                area,
+                normal: n,
             } => {
                 let [a, b, c] = geometry.triangles[triangle as usize];
                 let bary = square_to_triangle(u);
                 let q = a * (1.0 - bary.x - bary.y) + b * bary.x + c * bary.y;
-                let n2 = geometry.front_normal_scaled(triangle);
-                let area = 0.5 * n2.length();
-                let n = n2 / (2.0 * area);
                 let d = q - p;
                 let dist2 = d.length_squared();
                 if dist2 <= 0.0 || area <= 0.0 {
@@ -180,14 +185,7 @@ impl LightSampler {
     /// Solid-angle pdf with which [`LightSampler::sample`] would pick the
     /// point `q` on emissive `triangle` (normal `ng`) from `p`, including
     /// the selection probability. 0 for non-emitters.
-    pub fn pdf_triangle(
-        &self,
-        geometry: &SceneGeometry,
-        triangle: u32,
-        p: Vec3,
-        q: Vec3,
-        ng: Vec3,
-    ) -> f32 {
+    pub fn pdf_triangle(&self, triangle: u32, p: Vec3, q: Vec3, ng: Vec3) -> f32 {
         let e = self.entry_of_triangle[triangle as usize];
         if e == u32::MAX {
             return 0.0;
@@ -198,7 +196,10 @@ impl LightSampler {
         if cos <= 1e-7 {
             return 0.0;
         }
-        self.all.pmf(e as usize) * dist2 / (geometry.area(triangle) * cos)
+        let Entry::Triangle { area, .. } = self.entries[e as usize] else {
+            return 0.0;
+        };
+        self.all.pmf(e as usize) * dist2 / (area * cos)
     }
 }
 

@@ -45,13 +45,9 @@ pub fn li(
             let weight = match prev_bsdf_pdf {
                 None => 1.0,
                 Some(bsdf_pdf) => {
-                    let light_pdf = ctx.lights.pdf_triangle(
-                        ctx.geometry,
-                        hit.triangle,
-                        prev_point,
-                        hit.p,
-                        hit.ng,
-                    );
+                    let light_pdf =
+                        ctx.lights
+                            .pdf_triangle(hit.triangle, prev_point, hit.p, hit.ng);
                     power_heuristic(bsdf_pdf, light_pdf)
                 }
             };
