@@ -135,7 +135,7 @@ pub fn flip_exposure_range(reference: &Image) -> ExposureRange {
     let mut lum: Vec<f32> = reference
         .pixels
         .iter()
-        .map(|p| 0.2126 * p.x + 0.7152 * p.y + 0.0722 * p.z)
+        .map(|&p| penumbra_shading::color::luminance(p))
         .filter(|y| y.is_finite())
         .collect();
     lum.sort_by(f32::total_cmp);

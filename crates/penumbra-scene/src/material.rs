@@ -48,6 +48,12 @@ impl Material {
         }
     }
 
+    /// Power emitted by `area` m² of this material: Φ = π Le A per emitting
+    /// side (a Lambertian emitter's exitance is π Le).
+    pub fn emitted_power(&self, area: f32) -> Rgb {
+        self.emission * (std::f32::consts::PI * area * if self.double_sided { 2.0 } else { 1.0 })
+    }
+
     pub fn is_emissive(&self) -> bool {
         self.emission.max_element() > 0.0
     }

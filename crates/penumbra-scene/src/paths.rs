@@ -85,26 +85,33 @@ pub fn resolve_uri(
     Ok(joined)
 }
 
-/// Decodes `%XX` escapes (glTF URIs are URI-encoded).
-pub fn percent_decode(s: &str) -> String {
-    let bytes = s.as_bytes();
-    let mut out = Vec::with_capacity(bytes.len());
+/// Decodes `%XX` escapes (glTF URIs are URI-encoded) to raw bytes; a `%`
+/// not followed by two hex digits is kept as it is.
+pub fn percent_decode_bytes(s: &str) -> Vec<u8> {
+    let hex = |c: u8| (c as char).to_digit(16).map(|d| d as u8);
+    let b = s.as_bytes();
+    let mut out = Vec::with_capacity(b.len());
     let mut i = 0;
-    while i < bytes.len() {
-        if bytes[i] == b'%'
-            && i + 2 < bytes.len()
-            && let Some(v) = std::str::from_utf8(&bytes[i + 1..i + 3])
-                .ok()
-                .and_then(|h| u8::from_str_radix(h, 16).ok())
+    while i < b.len() {
+        if b[i] == b'%'
+            && let (Some(h), Some(l)) = (
+                b.get(i + 1).and_then(|&c| hex(c)),
+                b.get(i + 2).and_then(|&c| hex(c)),
+            )
         {
-            out.push(v);
+            out.push(h << 4 | l);
             i += 3;
             continue;
         }
-        out.push(bytes[i]);
+        out.push(b[i]);
         i += 1;
     }
-    String::from_utf8_lossy(&out).into_owned()
+    out
+}
+
+/// [`percent_decode_bytes`] as text (invalid UTF-8 replaced).
+pub fn percent_decode(s: &str) -> String {
+    String::from_utf8_lossy(&percent_decode_bytes(s)).into_owned()
 }
 
 #[cfg(test)]

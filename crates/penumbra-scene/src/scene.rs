@@ -57,6 +57,20 @@ impl Scene {
             .sum()
     }
 
+    /// World-space surface area of an instance [scene units²].
+    pub fn instance_area(&self, inst: &Instance) -> f32 {
+        let mesh = &self.meshes[inst.mesh];
+        let world = |i: u32| inst.transform.transform_point3(mesh.positions[i as usize]);
+        mesh.indices
+            .iter()
+            .map(|t| {
+                0.5 * (world(t[1]) - world(t[0]))
+                    .cross(world(t[2]) - world(t[0]))
+                    .length()
+            })
+            .sum()
+    }
+
     /// Material used by an instance (its override, else its mesh's).
     pub fn instance_material(&self, inst: &Instance) -> &Material {
         &self.materials[inst.material.unwrap_or(self.meshes[inst.mesh].material)]

@@ -3,7 +3,7 @@
 //! from surface points) rays, and rays read from a file so that another
 //! engine can trace exactly the same set.
 
-use crate::accel::{Accel, BuildQuality};
+use crate::accel::Accel;
 use crate::ray::{Ray, offset_ray_origin};
 use glam::Vec3;
 use penumbra_scene::Camera;
@@ -27,19 +27,6 @@ impl Measure {
     pub fn millions_per_second(&self) -> f64 {
         self.count as f64 / self.seconds.max(1e-12) / 1e6
     }
-}
-
-/// Builds the BVH and measures the build; returns both.
-pub fn measure_build(triangles: &[[Vec3; 3]], quality: BuildQuality) -> (Accel, Measure) {
-    let t = Instant::now();
-    let accel = Accel::build(triangles, quality);
-    let m = Measure {
-        name: "build",
-        seconds: t.elapsed().as_secs_f64(),
-        count: triangles.len() as u64,
-        hits: 0,
-    };
-    (accel, m)
 }
 
 /// Camera rays through every pixel centre of a `width`×`height` image, in

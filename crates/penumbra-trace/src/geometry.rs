@@ -43,6 +43,8 @@ pub struct SurfaceHit {
 #[derive(Debug)]
 pub struct SceneGeometry {
     pub accel: Accel,
+    /// Wall time of the BVH build alone [s] (what `bench` reports).
+    pub accel_seconds: f64,
     /// World-space vertices of each triangle.
     pub triangles: Vec<[Vec3; 3]>,
     sources: Vec<TriangleSource>,
@@ -78,9 +80,12 @@ impl SceneGeometry {
                 winding: if inst.flips_winding() { -1.0 } else { 1.0 },
             });
         }
+        let start = std::time::Instant::now();
         let accel = Accel::build(&triangles, quality);
+        let accel_seconds = start.elapsed().as_secs_f64();
         Self {
             accel,
+            accel_seconds,
             triangles,
             sources,
             instances,
@@ -106,10 +111,10 @@ impl SceneGeometry {
     /// Closest surface along `ray`.
     pub fn intersect(&self, scene: &Scene, ray: &Ray) -> Option<SurfaceHit> {
         let hit = self.accel.intersect(ray)?;
-        Some(self.surface_at(scene, &hit, ray))
+        Some(self.surface_at(scene, &hit))
     }
 
-    fn surface_at(&self, scene: &Scene, hit: &Hit, ray: &Ray) -> SurfaceHit {
+    fn surface_at(&self, scene: &Scene, hit: &Hit) -> SurfaceHit {
         let src = self.sources[hit.triangle as usize];
         let inst_data = &self.instances[src.instance as usize];
         let inst = &scene.instances[src.instance as usize];
@@ -139,7 +144,6 @@ impl SceneGeometry {
         // Interpolating the world vertices is more accurate than o + t d.
         let [a, b, c] = self.triangles[hit.triangle as usize];
         let p = a * b0 + b * b1 + c * b2;
-        let _ = ray;
         SurfaceHit {
             p,
             t: hit.t,

@@ -10,7 +10,6 @@ use penumbra_shading::Rgb;
 use penumbra_shading::color::luminance;
 use penumbra_shading::light::LightSample;
 use penumbra_shading::sampling::square_to_triangle;
-use std::f32::consts::PI;
 
 /// One selectable light.
 #[derive(Clone, Copy, Debug)]
@@ -49,11 +48,6 @@ pub struct LightSampler {
     entry_of_triangle: Vec<u32>,
 }
 
-/// Power of one emissive triangle, `Φ = π L A` per emitting side.
-fn triangle_power(radiance: Rgb, area: f32, double_sided: bool) -> f32 {
-    luminance(radiance) * PI * area * if double_sided { 2.0 } else { 1.0 }
-}
-
 impl LightSampler {
     pub fn new(scene: &Scene, geometry: &SceneGeometry) -> Self {
         let radius = scene
@@ -74,7 +68,7 @@ impl LightSampler {
                 continue;
             }
             let area = geometry.area(t);
-            let w = triangle_power(m.emission, area, m.double_sided);
+            let w = luminance(m.emitted_power(area));
             if w <= 0.0 {
                 continue;
             }

@@ -10,8 +10,8 @@ use penumbra_shading::Rgb;
 use penumbra_shading::light::{DirectionalLight, Light};
 use penumbra_trace::accel::BuildQuality;
 use penumbra_trace::bench::{
-    Measure, bench_mesh, camera_rays, incoherent_rays, measure_build, measure_closest_hit,
-    parse_ray_file, write_obj, write_ray_file,
+    Measure, bench_mesh, camera_rays, incoherent_rays, measure_closest_hit, parse_ray_file,
+    write_obj, write_ray_file,
 };
 use penumbra_trace::geometry::SceneGeometry;
 use penumbra_trace::{RenderOptions, render, scene_camera};
@@ -50,12 +50,14 @@ pub struct BenchArgs {
     pub json: bool,
 }
 
-fn mesh_scene(mesh: penumbra_scene::Mesh) -> Scene {
+/// A scene of `meshes` in grey, lit by a sun, framed by the camera.
+fn mesh_scene(meshes: Vec<(penumbra_scene::Mesh, Mat4)>) -> Scene {
     let mut scene = Scene::default();
     let mat = scene.add_material(Material::lambert("grey", Rgb::splat(0.7)));
-    let mut mesh = mesh;
-    mesh.material = mat;
-    scene.add_mesh(mesh, Mat4::IDENTITY);
+    for (mut mesh, transform) in meshes {
+        mesh.material = mat;
+        scene.add_mesh(mesh, transform);
+    }
     scene.lights.push(SceneLight {
         name: "sun".into(),
         light: Light::Directional(DirectionalLight {
@@ -131,17 +133,15 @@ pub fn run(args: BenchArgs) -> Result<()> {
         (Some(p), _) => load_scene(p)?,
         (None, Some(m)) => {
             let loaded = load_scene(m)?;
-            let mut s = mesh_scene(penumbra_scene::Mesh::default());
-            s.meshes.clear();
-            s.instances.clear();
-            for inst in &loaded.instances {
-                let mut mesh = loaded.meshes[inst.mesh].clone();
-                mesh.material = 0;
-                s.add_mesh(mesh, inst.transform);
-            }
-            s
+            mesh_scene(
+                loaded
+                    .instances
+                    .iter()
+                    .map(|i| (loaded.meshes[i.mesh].clone(), i.transform))
+                    .collect(),
+            )
         }
-        (None, None) => mesh_scene(bench_mesh(args.triangles as usize)),
+        (None, None) => mesh_scene(vec![(bench_mesh(args.triangles as usize), Mat4::IDENTITY)]),
     };
     if scene.triangle_count() == 0 {
         bail!("the scene has no triangles to benchmark");
@@ -152,7 +152,13 @@ pub fn run(args: BenchArgs) -> Result<()> {
 
 fn run_measures(args: &BenchArgs, scene: &Scene) -> Result<()> {
     let geometry = SceneGeometry::build(scene, BuildQuality::Medium);
-    let (accel, build) = measure_build(&geometry.triangles, BuildQuality::Medium);
+    let accel = &geometry.accel;
+    let build = Measure {
+        name: "build",
+        seconds: geometry.accel_seconds,
+        count: geometry.triangles.len() as u64,
+        hits: 0,
+    };
     if !args.json {
         println!(
             "penumbra bench: {} triangles, {} threads",
@@ -167,7 +173,7 @@ fn run_measures(args: &BenchArgs, scene: &Scene) -> Result<()> {
         let rays =
             parse_ray_file(&bytes).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
         report(
-            &measure_closest_hit(&accel, &rays, "file"),
+            &measure_closest_hit(accel, &rays, "file"),
             args.json,
             "Mrays/s",
         );
@@ -175,7 +181,7 @@ fn run_measures(args: &BenchArgs, scene: &Scene) -> Result<()> {
     }
     let camera = scene_camera(scene);
     let coherent = camera_rays(&camera, args.ray_resolution, args.ray_resolution);
-    let incoherent = incoherent_rays(&accel, &geometry.triangles, &coherent, 4, 7);
+    let incoherent = incoherent_rays(accel, &geometry.triangles, &coherent, 4, 7);
     if let Some(base) = &args.write_rays {
         for (suffix, set) in [("coherent", &coherent), ("incoherent", &incoherent)] {
             let p = PathBuf::from(format!("{}.{suffix}", base.display()));
@@ -184,14 +190,14 @@ fn run_measures(args: &BenchArgs, scene: &Scene) -> Result<()> {
         }
     }
     // Warm up caches once, then measure.
-    measure_closest_hit(&accel, &coherent[..coherent.len().min(65_536)], "warmup");
+    measure_closest_hit(accel, &coherent[..coherent.len().min(65_536)], "warmup");
     report(
-        &measure_closest_hit(&accel, &coherent, "coherent"),
+        &measure_closest_hit(accel, &coherent, "coherent"),
         args.json,
         "Mrays/s",
     );
     report(
-        &measure_closest_hit(&accel, &incoherent, "incoherent"),
+        &measure_closest_hit(accel, &incoherent, "incoherent"),
         args.json,
         "Mrays/s",
     );

@@ -68,18 +68,10 @@ pub fn run(args: InfoArgs) -> Result<()> {
             continue;
         }
         let mesh = &scene.meshes[inst.mesh];
-        let area: f32 = mesh
-            .indices
-            .iter()
-            .map(|t| {
-                let p = |i: u32| inst.transform.transform_point3(mesh.positions[i as usize]);
-                0.5 * (p(t[1]) - p(t[0])).cross(p(t[2]) - p(t[0])).length()
-            })
-            .sum();
-        let sides = if m.double_sided { 2.0 } else { 1.0 };
-        let phi = m.emission * std::f32::consts::PI * area * sides;
+        let area = scene.instance_area(inst);
+        let phi = m.emitted_power(area);
         println!(
-            "  area light '{}' (material '{}'): area {:.4}, radiance {:?}, power {:.4} {:.4} {:.4} W",
+            "  area light '{}' (material '{}'): area {:.4} unit², radiance {:?}, power π·L·A = {:.4} {:.4} {:.4} W per m² of unit² (W if the scene is in metres)",
             mesh.name, m.name, area, m.emission, phi.x, phi.y, phi.z
         );
     }

@@ -1,7 +1,7 @@
 //! Isotropic point light: intensity I [W/sr] (or power Φ with I = Φ/4π).
 
 use super::LightSample;
-use crate::Rgb;
+use crate::{Rgb, radiometry};
 use glam::Vec3;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -16,7 +16,7 @@ impl PointLight {
     pub fn from_power(position: Vec3, power: Rgb) -> Self {
         Self {
             position,
-            intensity: power / (4.0 * std::f32::consts::PI),
+            intensity: power.map(radiometry::point_intensity_from_power),
         }
     }
 
@@ -40,7 +40,7 @@ impl PointLight {
 
     /// Φ = 4π I.
     pub fn power(&self) -> Rgb {
-        self.intensity * 4.0 * std::f32::consts::PI
+        self.intensity.map(radiometry::point_power_from_intensity)
     }
 }
 

@@ -103,17 +103,13 @@ impl TraceContext<'_> {
 
     /// Shadow ray from `s` towards a light at `distance` along `wi`: unblocked?
     pub(crate) fn visible(&self, s: &Shading, wi: Vec3, distance: f32) -> bool {
-        let ray = self.spawn(s, wi, f32::INFINITY);
         // Stop just short of the light so the emitter itself does not occlude.
         let tmax = if distance.is_finite() {
             distance * (1.0 - 1e-4)
         } else {
             f32::INFINITY
         };
-        !self
-            .geometry
-            .accel
-            .occluded(&Ray::segment(ray.origin, wi, tmax))
+        !self.geometry.accel.occluded(&self.spawn(s, wi, tmax))
     }
 
     /// AOVs of a first hit.

@@ -5,14 +5,11 @@ use glam::{Mat4, Vec3};
 use penumbra_scene::{Camera, Material, Mesh, Projection, Scene};
 use penumbra_shading::Rgb;
 
-/// A quad with corner `c` and edges `e1`, `e2`; front normal e1 × e2.
+/// `primitives::quad` (front normal e1 × e2) with a material.
 pub fn quad(c: Vec3, e1: Vec3, e2: Vec3, material: usize) -> Mesh {
     Mesh {
-        name: "quad".into(),
-        positions: vec![c, c + e1, c + e1 + e2, c + e2],
-        indices: vec![[0, 1, 2], [0, 2, 3]],
         material,
-        ..Default::default()
+        ..penumbra_scene::primitives::quad(c, e1, e2)
     }
 }
 

@@ -149,33 +149,8 @@ pub(super) fn decode_data_uri(uri: &str) -> Result<Vec<u8>, String> {
     if meta.ends_with(";base64") {
         decode_base64(payload)
     } else {
-        Ok(percent_decode_bytes(payload))
+        Ok(crate::paths::percent_decode_bytes(payload))
     }
-}
-
-fn percent_decode_bytes(s: &str) -> Vec<u8> {
-    let b = s.as_bytes();
-    let mut out = Vec::with_capacity(b.len());
-    let mut i = 0;
-    while i < b.len() {
-        if b[i] == b'%'
-            && let (Some(h), Some(l)) = (
-                b.get(i + 1).and_then(|&c| hex(c)),
-                b.get(i + 2).and_then(|&c| hex(c)),
-            )
-        {
-            out.push(h << 4 | l);
-            i += 3;
-            continue;
-        }
-        out.push(b[i]);
-        i += 1;
-    }
-    out
-}
-
-fn hex(c: u8) -> Option<u8> {
-    (c as char).to_digit(16).map(|d| d as u8)
 }
 
 /// Standard base64 (RFC 4648, `+/`, optional `=` padding; the URL-safe
