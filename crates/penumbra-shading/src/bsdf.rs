@@ -1,14 +1,51 @@
-//! BSDFs. A closed set, so an enum over one struct per model (pbrt-v4 style).
+//! BSDFs. A closed set, so an enum over one struct per model (pbrt-v4 style):
+//! no allocation and no dynamic dispatch per lobe.
 //!
-//! Every function works in the **local shading frame** (z = shading normal,
-//! on the side of `wo` for two-sided materials) with unit directions pointing
-//! away from the surface. `eval` returns f(wo, wi) in 1/sr **without** the
-//! cosine; `pdf` is with respect to solid angle; `sample` returns the
-//! weight f·cos θi / pdf.
+//! ## The contract every model follows
+//! Every function works in the **local shading frame**: z = shading normal,
+//! unit directions pointing **away** from the surface. The integrator always
+//! orients the frame so that `wo.z > 0`; when it had to flip the frame (the
+//! surface is seen from its back) it calls [`Bsdf::seen_from_back`], which
+//! inverts the relative index η of transmissive models. So for every model
+//! "outside" is the side of `wo`, and `eta` = n_inside / n_outside.
+//!
+//! - `eval(wo, wi) -> Rgb`: f(wo, wi) in 1/sr **without** the cosine, of the
+//!   non-delta lobes only (0 for a purely specular model);
+//! - `pdf(wo, wi) -> f32`: solid-angle density with which `sample` returns
+//!   `wi` through a non-delta lobe (lobe selection probability included);
+//! - `sample(wo, u_lobe, u) -> Option<BsdfSample>`: `u_lobe` ∈ [0,1) picks a
+//!   lobe (diffuse/specular, reflect/transmit), `u` ∈ [0,1)² the direction;
+//!   `weight` = f·|cos θi|/pdf (for a delta lobe: the lobe's throughput
+//!   divided by its selection probability);
+//! - `specular(wo) -> SpecularSet`: the delta lobes as (direction, throughput)
+//!   pairs, for Whitted-style branching (empty if none);
+//! - `flags() -> BsdfFlags`, `albedo() -> Rgb` (a colour summary for the
+//!   albedo AOV and lobe selection), `tinted(t) -> Self` (base colour × t, for
+//!   textures).
+//!
+//! Radiance crossing a refractive boundary is scaled by 1/η² (η = n_t/n_i in
+//! the direction the light travels): radiance, not importance, is transported.
 
+mod conductor;
+mod dielectric;
 mod lambert;
+mod metallic_roughness;
+mod microfacet;
+mod mirror;
+pub mod optics;
+mod phong;
+mod rough_conductor;
+mod rough_dielectric;
 
+pub use conductor::Conductor;
+pub use dielectric::Dielectric;
 pub use lambert::Lambert;
+pub use metallic_roughness::MetallicRoughness;
+pub use mirror::Mirror;
+pub use optics::FresnelModel;
+pub use phong::{PhongBlinn, PhongVariant};
+pub use rough_conductor::RoughConductor;
+pub use rough_dielectric::RoughDielectric;
 
 use crate::Rgb;
 use glam::Vec3;
@@ -18,10 +55,67 @@ use glam::Vec3;
 pub struct BsdfSample {
     /// Sampled incident direction (local frame).
     pub wi: Vec3,
-    /// f(wo, wi) · |cos θi| / pdf.
+    /// f(wo, wi) · |cos θi| / pdf (delta lobes: throughput / selection probability).
     pub weight: Rgb,
-    /// Solid-angle density of `wi`.
+    /// Solid-angle density of `wi`; for a delta lobe its selection probability.
     pub pdf: f32,
+    /// The direction came from a delta (ideally specular) lobe.
+    pub delta: bool,
+}
+
+/// What kinds of lobes a BSDF has.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BsdfFlags {
+    /// Has a lobe with a density (can be evaluated for light samples).
+    pub non_delta: bool,
+    /// Has an ideally specular (delta) lobe.
+    pub delta: bool,
+    /// Can send light to the far side of the surface.
+    pub transmission: bool,
+}
+
+impl BsdfFlags {
+    pub const DIFFUSE: Self = Self {
+        non_delta: true,
+        delta: false,
+        transmission: false,
+    };
+    pub const SPECULAR_REFLECTION: Self = Self {
+        non_delta: false,
+        delta: true,
+        transmission: false,
+    };
+}
+
+/// Up to two delta lobes: direction (local frame) and throughput
+/// (f·|cos|/"pdf" of the lobe, e.g. F for mirror reflection).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct SpecularSet {
+    len: usize,
+    items: [(Vec3, Rgb); 2],
+}
+
+impl SpecularSet {
+    /// Adds a lobe; at most two fit (reflection and transmission).
+    pub fn push(&mut self, wi: Vec3, throughput: Rgb) {
+        debug_assert!(self.len < 2);
+        if self.len < 2 && throughput.max_element() > 0.0 {
+            self.items[self.len] = (wi, throughput);
+            self.len += 1;
+        }
+    }
+
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    pub fn iter(&self) -> impl Iterator<Item = (Vec3, Rgb)> + '_ {
+        self.items[..self.len].iter().copied()
+    }
 }
 
 /// The BSDF models penumbra knows.
@@ -31,7 +125,7 @@ pub enum Bsdf {
 }
 
 impl Bsdf {
-    /// f(wo, wi) [1/sr], cosine not included.
+    /// f(wo, wi) [1/sr] of the non-delta lobes, cosine not included.
     #[inline]
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Rgb {
         match self {
@@ -39,7 +133,7 @@ impl Bsdf {
         }
     }
 
-    /// Solid-angle pdf of [`Bsdf::sample`] choosing `wi`.
+    /// Solid-angle pdf of [`Bsdf::sample`] choosing `wi` by a non-delta lobe.
     #[inline]
     pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         match self {
@@ -47,18 +141,44 @@ impl Bsdf {
         }
     }
 
-    /// Samples `wi` from `u` ∈ [0,1)²; `None` if no direction is possible.
+    /// Samples `wi`; `None` if no direction is possible.
     #[inline]
-    pub fn sample(&self, wo: Vec3, u: [f32; 2]) -> Option<BsdfSample> {
+    pub fn sample(&self, wo: Vec3, u_lobe: f32, u: [f32; 2]) -> Option<BsdfSample> {
         match self {
-            Bsdf::Lambert(m) => m.sample(wo, u),
+            Bsdf::Lambert(m) => m.sample(wo, u_lobe, u),
         }
     }
 
-    /// Hemispherical-directional reflectance used for the albedo AOV.
+    /// The delta lobes at `wo` (Whitted recursion).
+    #[inline]
+    pub fn specular(&self, wo: Vec3) -> SpecularSet {
+        match self {
+            Bsdf::Lambert(m) => m.specular(wo),
+        }
+    }
+
+    pub fn flags(&self) -> BsdfFlags {
+        match self {
+            Bsdf::Lambert(m) => m.flags(),
+        }
+    }
+
+    /// A colour summary of the reflectance, for the albedo AOV.
     pub fn albedo(&self) -> Rgb {
         match self {
-            Bsdf::Lambert(m) => m.albedo,
+            Bsdf::Lambert(m) => m.albedo(),
         }
+    }
+
+    /// The base colour multiplied by `t` (textures).
+    pub fn tinted(self, t: Rgb) -> Bsdf {
+        match self {
+            Bsdf::Lambert(m) => Bsdf::Lambert(m.tinted(t)),
+        }
+    }
+
+    /// The same material seen from its back: transmissive models get η → 1/η.
+    pub fn seen_from_back(self) -> Bsdf {
+        self
     }
 }

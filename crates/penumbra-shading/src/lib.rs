@@ -10,6 +10,7 @@ pub mod frame;
 pub mod light;
 pub mod radiometry;
 pub mod sampling;
+pub mod stats;
 
 pub use color::Rgb;
 pub use frame::Frame;

@@ -4,7 +4,7 @@
 //! with `kd = ρ / π`. Reflection only: f = 0 when wo and wi are on opposite
 //! sides of the surface.
 
-use super::BsdfSample;
+use super::{BsdfFlags, BsdfSample, SpecularSet};
 use crate::Rgb;
 use crate::sampling::{cosine_hemisphere_pdf, square_to_cosine_hemisphere};
 use glam::Vec3;
@@ -56,7 +56,7 @@ impl Lambert {
 
     /// Cosine-weighted sampling; weight = f cos / pdf = ρ.
     #[inline]
-    pub fn sample(&self, wo: Vec3, u: [f32; 2]) -> Option<BsdfSample> {
+    pub fn sample(&self, wo: Vec3, _u_lobe: f32, u: [f32; 2]) -> Option<BsdfSample> {
         if wo.z <= 0.0 {
             return None;
         }
@@ -69,7 +69,28 @@ impl Lambert {
             wi,
             weight: self.albedo,
             pdf,
+            delta: false,
         })
+    }
+
+    /// Diffuse reflection has no delta part.
+    pub fn flags(&self) -> BsdfFlags {
+        BsdfFlags::DIFFUSE
+    }
+
+    /// No delta part.
+    pub fn specular(&self, _wo: Vec3) -> SpecularSet {
+        SpecularSet::default()
+    }
+
+    /// ρ, the directional albedo at every angle.
+    pub fn albedo(&self) -> Rgb {
+        self.albedo
+    }
+
+    /// Albedo multiplied by a texture colour.
+    pub fn tinted(self, t: Rgb) -> Self {
+        Self::new(self.albedo * t)
     }
 }
 
@@ -113,7 +134,7 @@ mod tests {
         let mut est = Rgb::ZERO;
         for i in 0..n {
             s = Sampler::new(i, 0, 0, 9);
-            let smp = m.sample(wo, s.next_2d()).unwrap();
+            let smp = m.sample(wo, 0.5, s.next_2d()).unwrap();
             assert!(
                 (m.eval(wo, smp.wi) * smp.wi.z / smp.pdf - smp.weight)
                     .abs()
@@ -124,6 +145,6 @@ mod tests {
             est += smp.weight;
         }
         assert!((est / n as f32 - Rgb::ONE).abs().max_element() < 1e-5);
-        assert!(m.sample(-wo, s.next_2d()).is_none());
+        assert!(m.sample(-wo, 0.5, s.next_2d()).is_none());
     }
 }

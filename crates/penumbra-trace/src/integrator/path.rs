@@ -87,7 +87,10 @@ pub fn li(
             }
         }
         // BSDF sampling continues the path.
-        let Some(bs) = s.bsdf.sample(s.wo_local, sampler.next_2d()) else {
+        let Some(bs) = s
+            .bsdf
+            .sample(s.wo_local, sampler.next_1d(), sampler.next_2d())
+        else {
             break;
         };
         let wi = s.frame.to_world(bs.wi);

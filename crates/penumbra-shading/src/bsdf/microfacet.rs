@@ -1,0 +1,2 @@
+//! GGX / Trowbridge–Reitz microfacet distribution with Smith
+//! masking–shadowing and visible-normal sampling.
