@@ -15,10 +15,19 @@ pub enum IntegratorKind {
     Path,
     /// Ambient occlusion kA.
     Ao,
+    /// Recursive (Whitted) ray tracing: direct light with shadow rays,
+    /// ideal reflection and refraction followed recursively.
+    Whitted,
 }
 
 impl IntegratorKind {
-    pub const ALL: [IntegratorKind; 4] = [Self::Local, Self::Direct, Self::Path, Self::Ao];
+    pub const ALL: [IntegratorKind; 5] = [
+        Self::Local,
+        Self::Direct,
+        Self::Path,
+        Self::Ao,
+        Self::Whitted,
+    ];
 
     pub fn name(self) -> &'static str {
         match self {
@@ -26,6 +35,7 @@ impl IntegratorKind {
             Self::Direct => "direct",
             Self::Path => "path",
             Self::Ao => "ao",
+            Self::Whitted => "whitted",
         }
     }
 }
@@ -43,7 +53,11 @@ impl FromStr for IntegratorKind {
             .into_iter()
             .find(|k| k.name() == s)
             .ok_or_else(|| {
-                format!("unknown integrator '{s}' (expected one of: local, direct, path, ao)")
+                let names: Vec<_> = Self::ALL.iter().map(|k| k.name()).collect();
+                format!(
+                    "unknown integrator '{s}' (expected one of: {})",
+                    names.join(", ")
+                )
             })
     }
 }

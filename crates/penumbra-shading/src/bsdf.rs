@@ -23,8 +23,10 @@
 //!   albedo AOV and lobe selection), `tinted(t) -> Self` (base colour × t, for
 //!   textures).
 //!
-//! Radiance crossing a refractive boundary is scaled by 1/η² (η = n_t/n_i in
-//! the direction the light travels): radiance, not importance, is transported.
+//! Radiance crossing a refractive boundary is scaled by (n_t/n_i)², with n_i
+//! and n_t the indices before and after the boundary in the direction the
+//! light travels: light leaving glass (η = 1.5) towards `wo` outside is
+//! divided by η². Radiance, not importance, is transported.
 
 mod conductor;
 mod dielectric;

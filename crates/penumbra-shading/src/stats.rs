@@ -133,16 +133,20 @@ pub fn chi_square_sphere(
             2.0
         }
     };
+    let inside = |i: usize| (i as f64 / m as f64).clamp(1e-6, 1.0 - 1e-6);
     let mut expected = vec![0f64; nt * np];
     let (dz, dphi) = (2.0 / nt as f64, 2.0 * PI / np as f64);
     for t in 0..nt {
         for p in 0..np {
             let mut sum = 0.0;
             for i in 0..=m {
-                let z = -1.0 + dz * (t as f64 + i as f64 / m as f64);
+                // Edge points sit a hair inside the bin: densities that are
+                // discontinuous at a bin edge (e.g. zero below the horizon)
+                // must be evaluated on this bin's side.
+                let z = -1.0 + dz * (t as f64 + inside(i));
                 let r = (1.0 - z * z).max(0.0).sqrt();
                 for j in 0..=m {
-                    let phi = dphi * (p as f64 + j as f64 / m as f64);
+                    let phi = dphi * (p as f64 + inside(j));
                     let d = Vec3::new((r * phi.cos()) as f32, (r * phi.sin()) as f32, z as f32);
                     sum += simpson(i) * simpson(j) * pdf(d) as f64;
                 }

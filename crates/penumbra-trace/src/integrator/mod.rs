@@ -3,13 +3,14 @@
 mod ao;
 mod local;
 mod path;
+mod whitted;
 
 use crate::geometry::{SceneGeometry, SurfaceHit};
 use crate::lights::LightSampler;
 use crate::ray::{Ray, offset_ray_origin};
 use glam::Vec3;
 use penumbra_scene::{IntegratorKind, RenderSettings, Scene};
-use penumbra_shading::bsdf::{Bsdf, Lambert};
+use penumbra_shading::bsdf::Bsdf;
 use penumbra_shading::sampling::Sampler;
 use penumbra_shading::{Frame, Rgb};
 
@@ -55,29 +56,29 @@ impl TraceContext<'_> {
             IntegratorKind::Direct => path::li(self, ray, sampler, 2),
             IntegratorKind::Path => path::li(self, ray, sampler, self.settings.max_depth),
             IntegratorKind::Ao => ao::li(self, ray, sampler),
+            IntegratorKind::Whitted => whitted::li(self, ray, sampler),
         }
     }
 
     /// The BSDF at `hit` (texture applied) in a frame facing `wo`; `None`
     /// when a one-sided material is seen from its back (black, absorbing).
+    /// Transmissive materials are always two-sided: seen from the back their
+    /// relative index is inverted (the ray is inside the medium).
     pub(crate) fn shading(&self, hit: &SurfaceHit, wo: Vec3) -> Option<Shading> {
         let material = &self.scene.materials[hit.material];
         let (mut ng, mut ns) = (hit.ng, hit.ns);
+        let mut bsdf = material.bsdf;
+        if let Some(t) = material.albedo_texture {
+            bsdf = bsdf.tinted(self.scene.textures[t].sample(hit.uv));
+        }
         if ng.dot(wo) < 0.0 {
-            if !material.double_sided {
+            if !material.double_sided && !bsdf.flags().transmission {
                 return None;
             }
             ng = -ng;
             ns = -ns;
+            bsdf = bsdf.seen_from_back();
         }
-        let bsdf = match material.bsdf {
-            Bsdf::Lambert(l) => {
-                let tex = material
-                    .albedo_texture
-                    .map_or(Rgb::ONE, |t| self.scene.textures[t].sample(hit.uv));
-                Bsdf::Lambert(Lambert::new(l.albedo * tex))
-            }
-        };
         let frame = Frame::from_normal(ns);
         let mut wo_local = frame.to_local(wo);
         // Shading normals can put wo below the shading hemisphere at grazing
@@ -99,6 +100,14 @@ impl TraceContext<'_> {
     pub(crate) fn spawn(&self, s: &Shading, wi: Vec3, tmax: f32) -> Ray {
         let n = if wi.dot(s.ng) >= 0.0 { s.ng } else { -s.ng };
         Ray::segment(offset_ray_origin(s.hit.p, n), wi, tmax)
+    }
+
+    /// World direction `wi` is on the same side of the geometric and the
+    /// shading surface (no light leaks through shading normals).
+    #[inline]
+    pub(crate) fn consistent_side(s: &Shading, wi: Vec3, wi_local: Vec3) -> bool {
+        let g = wi.dot(s.ng);
+        g != 0.0 && wi_local.z != 0.0 && (g > 0.0) == (wi_local.z > 0.0)
     }
 
     /// Shadow ray from `s` towards a light at `distance` along `wi`: unblocked?

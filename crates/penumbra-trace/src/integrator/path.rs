@@ -61,17 +61,19 @@ pub fn li(
         if depth >= max_depth {
             break;
         }
-        // Next-event estimation: one light sample (adds segment depth + 1).
+        // Next-event estimation: one light sample (adds segment depth + 1),
+        // skipped for purely specular surfaces, whose eval is 0 everywhere.
         let [u_sel, _] = sampler.next_2d();
         let u_light = sampler.next_2d();
-        if let Some(chosen) = ctx
-            .lights
-            .sample(ctx.scene, ctx.geometry, s.hit.p, u_sel, u_light)
+        if !s.bsdf.flags().non_delta {
+        } else if let Some(chosen) =
+            ctx.lights
+                .sample(ctx.scene, ctx.geometry, s.hit.p, u_sel, u_light)
         {
             let ls = chosen.sample;
             let wi_local = s.frame.to_local(ls.wi);
-            let cos = wi_local.z;
-            if cos > 0.0 && ls.wi.dot(s.ng) > 0.0 {
+            let cos = wi_local.z.abs();
+            if TraceContext::consistent_side(&s, ls.wi, wi_local) {
                 let f = s.bsdf.eval(s.wo_local, wi_local);
                 if f != Rgb::ZERO && ctx.visible(&s, ls.wi, ls.distance) {
                     let weight = if ls.is_delta {
@@ -94,7 +96,7 @@ pub fn li(
             break;
         };
         let wi = s.frame.to_world(bs.wi);
-        if wi.dot(s.ng) <= 0.0 {
+        if !TraceContext::consistent_side(&s, wi, bs.wi) {
             break;
         }
         beta *= bs.weight;
@@ -106,7 +108,9 @@ pub fn li(
             }
             beta /= q;
         }
-        prev_bsdf_pdf = Some(bs.pdf);
+        // After a delta lobe the emitter hit gets weight 1: NEE cannot
+        // sample that direction.
+        prev_bsdf_pdf = (!bs.delta).then_some(bs.pdf);
         prev_point = s.hit.p;
         ray = ctx.spawn(&s, wi, f32::INFINITY);
     }

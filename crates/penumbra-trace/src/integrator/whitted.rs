@@ -1,0 +1,117 @@
+//! Recursive (Whitted) ray tracing, the notes' "recursive ray tracing":
+//! at every hit, direct light from the lights with shadow rays, shaded with
+//! the non-delta lobes only (rough lobes are shaded locally, no indirect
+//! diffuse light), plus the ideal reflection and refraction of the delta
+//! lobes followed recursively, each weighted by its Fresnel throughput:
+//!
+//! `L(x, ωo) = Le + Σ_lights f(ωo, ωl) E_l cos θl V + Σ_delta T_k L(x_k, ω_k)`.
+//!
+//! Abstract lights are summed exactly; area lights get one light sample per
+//! hit (so Whitted images of area-lit scenes are noisy at 1 spp, as any
+//! stochastic direct-light estimate). Depth counts path segments as in
+//! `path` (`max_depth` 1 = emitters only, 2 = direct light, each delta bounce
+//! one more), so both integrators agree on purely specular scenes.
+
+use super::{PathSample, Shading, TraceContext};
+use crate::lights::emitted;
+use crate::ray::Ray;
+use penumbra_shading::Rgb;
+use penumbra_shading::sampling::Sampler;
+
+pub fn li(ctx: &TraceContext, camera_ray: &Ray, sampler: &mut Sampler) -> PathSample {
+    let mut out = PathSample::default();
+    out.radiance = trace(
+        ctx,
+        camera_ray,
+        sampler,
+        1,
+        &mut Some(&mut out_aovs(&mut out)),
+    );
+    out
+}
+
+/// Where the first hit writes its AOVs.
+struct FirstHit<'a> {
+    out: &'a mut PathSample,
+}
+
+fn out_aovs(out: &mut PathSample) -> FirstHit<'_> {
+    FirstHit { out }
+}
+
+/// Radiance along `ray`, which is path segment number `depth`.
+fn trace(
+    ctx: &TraceContext,
+    ray: &Ray,
+    sampler: &mut Sampler,
+    depth: u32,
+    first: &mut Option<&mut FirstHit<'_>>,
+) -> Rgb {
+    let max_depth = ctx.settings.max_depth;
+    if depth > max_depth {
+        return Rgb::ZERO;
+    }
+    let Some(hit) = ctx.geometry.intersect(ctx.scene, ray) else {
+        return ctx.scene.background;
+    };
+    let wo = -ray.direction;
+    let material = &ctx.scene.materials[hit.material];
+    let mut radiance = emitted(material.emission, material.double_sided, hit.ng, wo);
+    let shading = ctx.shading(&hit, wo);
+    if let Some(f) = first.take() {
+        let radiance_so_far = f.out.radiance;
+        *f.out = ctx.first_hit_aovs(shading.as_ref(), &hit);
+        f.out.radiance = radiance_so_far;
+    }
+    let Some(s) = shading else {
+        return radiance;
+    };
+    if depth >= max_depth {
+        return radiance;
+    }
+    if s.bsdf.flags().non_delta {
+        radiance += direct_light(ctx, &s, sampler);
+    }
+    for (wi_local, throughput) in s.bsdf.specular(s.wo_local).iter() {
+        let wi = s.frame.to_world(wi_local);
+        if !TraceContext::consistent_side(&s, wi, wi_local) {
+            continue;
+        }
+        let next = ctx.spawn(&s, wi, f32::INFINITY);
+        radiance += throughput * trace(ctx, &next, sampler, depth + 1, &mut None);
+    }
+    radiance
+}
+
+/// Σ over abstract lights (exact) + one area-light sample, with shadow rays.
+fn direct_light(ctx: &TraceContext, s: &Shading, sampler: &mut Sampler) -> Rgb {
+    let mut sum = Rgb::ZERO;
+    let mut add = |wi: glam::Vec3, distance: f32, value: Rgb| {
+        let wl = s.frame.to_local(wi);
+        if !TraceContext::consistent_side(s, wi, wl) {
+            return;
+        }
+        let f = s.bsdf.eval(s.wo_local, wl);
+        if f != Rgb::ZERO && ctx.visible(s, wi, distance) {
+            sum += f * value * wl.z.abs();
+        }
+    };
+    for l in &ctx.scene.lights {
+        if let Some(ls) = l.light.sample_li(s.hit.p) {
+            add(ls.wi, ls.distance, ls.value);
+        }
+    }
+    let [u_sel, _] = sampler.next_2d();
+    let u = sampler.next_2d();
+    if let Some(c) = ctx
+        .lights
+        .sample_area(ctx.scene, ctx.geometry, s.hit.p, u_sel, u)
+    {
+        add(
+            c.sample.wi,
+            c.sample.distance,
+            c.sample.value / c.select_pdf,
+        );
+    }
+    sum
+}
