@@ -147,4 +147,34 @@ mod tests {
         assert!((est / n as f32 - Rgb::ONE).abs().max_element() < 1e-5);
         assert!(m.sample(-wo, 0.5, s.next_2d()).is_none());
     }
+
+    #[test]
+    fn chi_square_sample_against_pdf() {
+        use crate::stats::{SphereBins, TestRng, chi_square_sphere};
+        // Sampling ignores wo, but the family covers normal to grazing views.
+        let m = Lambert::new(Rgb::new(0.9, 0.5, 0.1));
+        let views = [0.0f32, 45.0, 80.0, 89.0];
+        for (k, deg) in views.iter().enumerate() {
+            let t = deg.to_radians();
+            let wo = Vec3::new(t.sin() * 0.3f32.cos(), t.sin() * 0.3f32.sin(), t.cos());
+            let mut rng = TestRng::new(40 + k as u64);
+            let mut bad = None;
+            let res = chi_square_sphere(
+                200_000,
+                SphereBins::default(),
+                || {
+                    let s = m.sample(wo, rng.next_f32(), rng.next_2d())?;
+                    let expect = m.eval(wo, s.wi) * s.wi.z / m.pdf(wo, s.wi);
+                    if s.delta || (s.weight - expect).abs().max_element() > 1e-4 {
+                        bad.get_or_insert(s);
+                    }
+                    Some(s.wi)
+                },
+                |wi| m.pdf(wo, wi),
+            );
+            assert!(bad.is_none(), "θo = {deg}: {bad:?}");
+            assert!(res.passes(0.01, views.len()), "θo = {deg}: {res:?}");
+            assert!((res.pdf_integral - 1.0).abs() < 5e-3 && res.sampled_fraction == 1.0);
+        }
+    }
 }
