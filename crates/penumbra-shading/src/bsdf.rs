@@ -124,63 +124,76 @@ impl SpecularSet {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Bsdf {
     Lambert(Lambert),
+    PhongBlinn(PhongBlinn),
+    Mirror(Mirror),
+    Conductor(Conductor),
+    Dielectric(Dielectric),
+}
+
+/// `match` over every model, binding it to `$m` (static dispatch).
+macro_rules! each_model {
+    ($bsdf:expr, $m:ident => $body:expr) => {
+        match $bsdf {
+            Bsdf::Lambert($m) => $body,
+            Bsdf::PhongBlinn($m) => $body,
+            Bsdf::Mirror($m) => $body,
+            Bsdf::Conductor($m) => $body,
+            Bsdf::Dielectric($m) => $body,
+        }
+    };
 }
 
 impl Bsdf {
     /// f(wo, wi) [1/sr] of the non-delta lobes, cosine not included.
     #[inline]
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Rgb {
-        match self {
-            Bsdf::Lambert(m) => m.eval(wo, wi),
-        }
+        each_model!(self, m => m.eval(wo, wi))
     }
 
     /// Solid-angle pdf of [`Bsdf::sample`] choosing `wi` by a non-delta lobe.
     #[inline]
     pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
-        match self {
-            Bsdf::Lambert(m) => m.pdf(wo, wi),
-        }
+        each_model!(self, m => m.pdf(wo, wi))
     }
 
     /// Samples `wi`; `None` if no direction is possible.
     #[inline]
     pub fn sample(&self, wo: Vec3, u_lobe: f32, u: [f32; 2]) -> Option<BsdfSample> {
-        match self {
-            Bsdf::Lambert(m) => m.sample(wo, u_lobe, u),
-        }
+        each_model!(self, m => m.sample(wo, u_lobe, u))
     }
 
     /// The delta lobes at `wo` (Whitted recursion).
     #[inline]
     pub fn specular(&self, wo: Vec3) -> SpecularSet {
-        match self {
-            Bsdf::Lambert(m) => m.specular(wo),
-        }
+        each_model!(self, m => m.specular(wo))
     }
 
+    #[inline]
     pub fn flags(&self) -> BsdfFlags {
-        match self {
-            Bsdf::Lambert(m) => m.flags(),
-        }
+        each_model!(self, m => m.flags())
     }
 
     /// A colour summary of the reflectance, for the albedo AOV.
     pub fn albedo(&self) -> Rgb {
-        match self {
-            Bsdf::Lambert(m) => m.albedo(),
-        }
+        each_model!(self, m => m.albedo())
     }
 
     /// The base colour multiplied by `t` (textures).
     pub fn tinted(self, t: Rgb) -> Bsdf {
         match self {
             Bsdf::Lambert(m) => Bsdf::Lambert(m.tinted(t)),
+            Bsdf::PhongBlinn(m) => Bsdf::PhongBlinn(m.tinted(t)),
+            Bsdf::Mirror(m) => Bsdf::Mirror(m.tinted(t)),
+            Bsdf::Conductor(m) => Bsdf::Conductor(m.tinted(t)),
+            Bsdf::Dielectric(m) => Bsdf::Dielectric(m.tinted(t)),
         }
     }
 
     /// The same material seen from its back: transmissive models get η → 1/η.
     pub fn seen_from_back(self) -> Bsdf {
-        self
+        match self {
+            Bsdf::Dielectric(m) => Bsdf::Dielectric(m.inverted()),
+            other => other,
+        }
     }
 }
