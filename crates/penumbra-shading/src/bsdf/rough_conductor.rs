@@ -5,7 +5,8 @@
 //! Sampled by visible normals (see [`super::microfacet`]): the pdf is
 //! `D_ωo(m) / (4 ωo·m)` and the weight `F(ωo·m) G2 / G1(ωo)`. Single
 //! scattering only: energy reflected more than once between microfacets is
-//! lost, up to ≈ 40 % at α = 1 and grazing (see the furnace test).
+//! lost: with F ≡ 1, 0.3 % at α = 0.05 and normal incidence, 69 % at α = 1
+//! (normal incidence), 33 % at α = 1 and θo = 80° (the furnace test).
 
 use super::microfacet::{Ggx, reflection_core, reflection_half_vector};
 use super::optics::{f0_from_ior, fresnel_conductor, reflect, schlick};
