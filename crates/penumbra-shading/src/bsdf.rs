@@ -129,6 +129,9 @@ pub enum Bsdf {
     Mirror(Mirror),
     Conductor(Conductor),
     Dielectric(Dielectric),
+    RoughConductor(RoughConductor),
+    RoughDielectric(RoughDielectric),
+    MetallicRoughness(MetallicRoughness),
 }
 
 /// `match` over every model, binding it to `$m` (static dispatch).
@@ -140,6 +143,9 @@ macro_rules! each_model {
             Bsdf::Mirror($m) => $body,
             Bsdf::Conductor($m) => $body,
             Bsdf::Dielectric($m) => $body,
+            Bsdf::RoughConductor($m) => $body,
+            Bsdf::RoughDielectric($m) => $body,
+            Bsdf::MetallicRoughness($m) => $body,
         }
     };
 }
@@ -187,6 +193,9 @@ impl Bsdf {
             Bsdf::Mirror(m) => Bsdf::Mirror(m.tinted(t)),
             Bsdf::Conductor(m) => Bsdf::Conductor(m.tinted(t)),
             Bsdf::Dielectric(m) => Bsdf::Dielectric(m.tinted(t)),
+            Bsdf::RoughConductor(m) => Bsdf::RoughConductor(m.tinted(t)),
+            Bsdf::RoughDielectric(m) => Bsdf::RoughDielectric(m.tinted(t)),
+            Bsdf::MetallicRoughness(m) => Bsdf::MetallicRoughness(m.tinted(t)),
         }
     }
 
@@ -194,6 +203,8 @@ impl Bsdf {
     pub fn seen_from_back(self) -> Bsdf {
         match self {
             Bsdf::Dielectric(m) => Bsdf::Dielectric(m.inverted()),
+            Bsdf::RoughDielectric(m) => Bsdf::RoughDielectric(m.inverted()),
+            Bsdf::MetallicRoughness(m) => Bsdf::MetallicRoughness(m.inverted()),
             other => other,
         }
     }

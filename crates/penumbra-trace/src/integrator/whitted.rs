@@ -115,3 +115,70 @@ fn direct_light(ctx: &TraceContext, s: &Shading, sampler: &mut Sampler) -> Rgb {
     }
     sum
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::accel::BuildQuality;
+    use crate::geometry::SceneGeometry;
+    use crate::lights::LightSampler;
+    use glam::{Mat4, Vec3};
+    use penumbra_scene::{Material, RenderSettings, Scene, primitives};
+    use penumbra_shading::bsdf::{Bsdf, Dielectric};
+
+    /// A ray through a glass slab of thickness t leaves parallel to itself,
+    /// shifted sideways by `t sin(θ − θt) / cos θt` (Snell: sin θ = η sin θt).
+    #[test]
+    fn glass_slab_shifts_a_ray_by_the_closed_form_offset() {
+        let (t, eta) = (0.5f32, 1.5f32);
+        let mut scene = Scene::default();
+        let glass = scene.add_material(Material {
+            bsdf: Bsdf::Dielectric(Dielectric::glass()),
+            ..Material::lambert("glass", Rgb::ONE)
+        });
+        let mut slab = primitives::cuboid(Vec3::new(-50.0, -t, -50.0), Vec3::new(50.0, 0.0, 50.0));
+        slab.material = glass;
+        scene.add_mesh(slab, Mat4::IDENTITY);
+        let geometry = SceneGeometry::build(&scene, BuildQuality::Medium);
+        let lights = LightSampler::new(&scene, &geometry);
+        let settings = RenderSettings::default();
+        let ctx = TraceContext {
+            scene: &scene,
+            geometry: &geometry,
+            lights: &lights,
+            settings: &settings,
+        };
+        for deg in [0.0f32, 15.0, 30.0, 45.0, 60.0, 75.0] {
+            let th = deg.to_radians();
+            let d = Vec3::new(th.sin(), -th.cos(), 0.0);
+            let p0 = Vec3::new(0.3, 2.0, 0.1);
+            let mut ray = Ray::segment(p0, d, f32::INFINITY);
+            let mut exit = Vec3::ZERO;
+            for _ in 0..2 {
+                let hit = ctx.geometry.intersect(ctx.scene, &ray).expect("slab hit");
+                let s = ctx
+                    .shading(&hit, -ray.direction)
+                    .expect("glass is two-sided");
+                let (wi_local, _) = s
+                    .bsdf
+                    .specular(s.wo_local)
+                    .iter()
+                    .find(|(w, _)| w.z < 0.0)
+                    .expect("transmitted lobe");
+                ray = ctx.spawn(&s, s.frame.to_world(wi_local), f32::INFINITY);
+                exit = hit.p;
+            }
+            assert!(
+                (ray.direction - d).length() < 1e-5,
+                "{deg}°: leaves parallel"
+            );
+            let tht = (th.sin() / eta).asin();
+            let expected = t * (th - tht).sin() / tht.cos();
+            let shift = (exit - p0).cross(d).length();
+            assert!(
+                (shift - expected).abs() < 1e-4,
+                "{deg}°: shift {shift} vs {expected}"
+            );
+        }
+    }
+}
