@@ -152,9 +152,9 @@ fn whitted_and_path_agree_on_a_specular_scene() {
     add(
         &mut scene,
         quad(
-            Vec3::new(0.4, 1.6, 1.2),
-            Vec3::new(1.8, -0.3, 0.0),
-            Vec3::new(0.0, 0.2, -1.6),
+            Vec3::new(0.5, 0.2, 2.0),
+            Vec3::new(1.5, 0.0, 0.3),
+            Vec3::new(0.0, 1.2, 0.0),
             glass,
         ),
     );
