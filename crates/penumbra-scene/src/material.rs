@@ -15,6 +15,10 @@ pub struct Material {
     pub bsdf: Bsdf,
     /// Texture multiplying the base colour / albedo (linear RGB, UV set 0).
     pub albedo_texture: Option<TextureId>,
+    /// glTF `metallicRoughnessTexture` (linear; roughness in G, metallic in
+    /// B) multiplying `roughness` and `metallic` of a
+    /// [`Bsdf::MetallicRoughness`] (UV set 0).
+    pub metallic_roughness_texture: Option<TextureId>,
     /// Emitted radiance Le [W/(sr·m²)] from the front side (and the back if
     /// `double_sided`).
     pub emission: Rgb,
@@ -29,6 +33,7 @@ impl Material {
             name: name.into(),
             bsdf: Bsdf::Lambert(Lambert::new(albedo)),
             albedo_texture: None,
+            metallic_roughness_texture: None,
             emission: Rgb::ZERO,
             double_sided: true,
         }

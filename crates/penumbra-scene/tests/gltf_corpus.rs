@@ -263,7 +263,12 @@ fn features_hierarchy_instancing_camera_light_materials() {
     // Materials: 'textured' is exact (no warning), texture decoded from sRGB.
     let textured = &scene.materials[m0.material];
     assert_eq!(textured.name, "textured");
-    let Bsdf::Lambert(l) = textured.bsdf;
+    let Bsdf::Lambert(l) = textured.bsdf else {
+        panic!(
+            "{}: expected Lambert, got {:?}",
+            textured.name, textured.bsdf
+        )
+    };
     assert_eq!(l.albedo, Vec3::splat(0.5));
     let tex = &scene.textures[textured.albedo_texture.unwrap()];
     assert_eq!((tex.width, tex.height), (2, 1));
@@ -272,20 +277,29 @@ fn features_hierarchy_instancing_camera_light_materials() {
     let shiny = &scene.materials[scene.meshes[1].material];
     assert_eq!(shiny.emission, Vec3::splat(4.0));
     assert!(shiny.double_sided);
+    // metallic 0.5 with the default dielectric layer: the glTF model itself.
+    let Bsdf::MetallicRoughness(mr) = shiny.bsdf else {
+        panic!("shiny: expected MetallicRoughness, got {:?}", shiny.bsdf)
+    };
+    assert_eq!(mr.base_color, Vec3::new(0.2, 0.4, 0.6));
+    assert_eq!((mr.metallic, mr.roughness, mr.ior), (0.5, 0.3, 1.5));
+    assert_eq!((mr.transmission, mr.specular), (0.0, 1.0));
+    assert_eq!(mr.specular_color, Vec3::ONE);
 
-    // Warnings: one per approximated material, one per kind of skipped data.
+    // Warnings: one per material with ignored parts, one per kind of skipped data.
     let w = &scene.warnings;
     assert_eq!(w.len(), 4, "{w:#?}");
     let material: Vec<_> = w.iter().filter(|s| s.contains("material")).collect();
     assert_eq!(material.len(), 1, "{w:#?}");
     for part in [
-        "material 'shiny' (materials[1]) approximated as Lambertian",
-        "metallicFactor 0.5",
-        "dielectric specular layer dropped (roughness 0.3, ior 1.5)",
+        "material 'shiny' (materials[1]): ",
         "normalTexture ignored",
         "KHR_materials_clearcoat ignored",
     ] {
         assert!(material[0].contains(part), "{part}: {}", material[0]);
+    }
+    for gone in ["Lambertian", "metallicFactor", "specular layer"] {
+        assert!(!material[0].contains(gone), "{gone}: {}", material[0]);
     }
     assert!(
         w.iter()
@@ -329,5 +343,70 @@ fn missing_image() {
         "missing_image.gltf",
         "at images[0].uri",
         &["cannot read image file", "no_such_image.png"],
+    );
+}
+
+#[test]
+fn materials_map_to_the_metallic_roughness_model() {
+    let scene = load("ok_materials.gltf");
+    let mat = |name: &str| {
+        scene
+            .materials
+            .iter()
+            .find(|m| m.name == name)
+            .unwrap_or_else(|| panic!("no material {name}"))
+    };
+    let mr = |name: &str| match mat(name).bsdf {
+        Bsdf::MetallicRoughness(m) => m,
+        other => panic!("{name}: expected MetallicRoughness, got {other:?}"),
+    };
+
+    // ior 1 switches the dielectric layer off: exactly Lambertian.
+    let matte = mat("matte");
+    let Bsdf::Lambert(l) = matte.bsdf else {
+        panic!("matte: expected Lambert, got {:?}", matte.bsdf)
+    };
+    assert_eq!(l.albedo, Vec3::new(0.7, 0.6, 0.5));
+    assert!(matte.metallic_roughness_texture.is_none());
+
+    // KHR_materials_ior + _transmission; transmissive → two-sided.
+    let glass = mr("glass");
+    assert_eq!(glass.base_color, Vec3::ONE);
+    assert_eq!((glass.metallic, glass.roughness), (0.0, 0.0));
+    assert_eq!((glass.ior, glass.transmission), (1.33, 0.9));
+    assert!(
+        mat("glass").double_sided,
+        "transmissive materials are two-sided"
+    );
+
+    // metallicRoughnessTexture: decoded as linear data (no sRGB curve).
+    let metal = mr("metal");
+    assert_eq!(metal.base_color, Vec3::new(1.0, 0.8, 0.3));
+    assert_eq!((metal.metallic, metal.roughness), (1.0, 0.25));
+    let tex = &scene.textures[mat("metal").metallic_roughness_texture.unwrap()];
+    assert_eq!((tex.width, tex.height), (2, 1));
+    assert!((tex.texels[0] - Vec3::new(1.0, 128.0 / 255.0, 0.0)).length() < 1e-6);
+    assert!(!mat("metal").double_sided);
+
+    // KHR_materials_specular and _emissive_strength.
+    let coated = mr("coated");
+    assert_eq!(coated.base_color, Vec3::new(0.1, 0.2, 0.3));
+    assert_eq!((coated.metallic, coated.roughness), (0.0, 0.5));
+    assert_eq!(coated.specular, 0.5);
+    assert_eq!(coated.specular_color, Vec3::new(1.0, 0.5, 0.25));
+    assert_eq!(mat("coated").emission, Vec3::new(3.0, 1.5, 0.0));
+
+    // glTF's defaults: white, metallic 1, roughness 1, ior 1.5, specular 1.
+    let d = mr("defaults");
+    assert_eq!(d.base_color, Vec3::ONE);
+    assert_eq!((d.metallic, d.roughness, d.ior), (1.0, 1.0, 1.5));
+    assert_eq!((d.transmission, d.specular), (0.0, 1.0));
+
+    // Only what is still ignored is warned about: the specular texture.
+    assert_eq!(scene.warnings.len(), 1, "{:#?}", scene.warnings);
+    let w = &scene.warnings[0];
+    assert!(
+        w.contains("material 'coated' (materials[3]): specularTexture ignored"),
+        "{w}"
     );
 }

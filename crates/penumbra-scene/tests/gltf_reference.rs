@@ -137,7 +137,9 @@ fn check_scene(folder: &str) -> (Scene, Value) {
 
         // Material.
         let mat = scene.instance_material(inst);
-        let Bsdf::Lambert(l) = mat.bsdf;
+        let Bsdf::Lambert(l) = mat.bsdf else {
+            panic!("{}: expected Lambert, got {:?}", mat.name, mat.bsdf)
+        };
         assert!(close(l.albedo, vec3(&o["albedo"]), 1e-6), "{name}");
         let emission = vec3(&o["emission"]);
         assert!(

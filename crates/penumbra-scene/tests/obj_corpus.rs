@@ -5,7 +5,9 @@
 use glam::{Vec2, Vec3};
 use penumbra_scene::Scene;
 use penumbra_scene::load::{LoadOptions, load_obj};
-use penumbra_shading::bsdf::Bsdf;
+use penumbra_shading::Rgb;
+use penumbra_shading::bsdf::optics::f0_from_ior;
+use penumbra_shading::bsdf::{Bsdf, FresnelModel, PhongVariant};
 use std::path::{Path, PathBuf};
 
 fn corpus(name: &str) -> PathBuf {
@@ -148,8 +150,13 @@ fn materials_textures_normals_and_uvs() {
         .unwrap();
     assert_eq!(uv[i0], Vec2::new(0.0, 1.0));
     let shiny = &scene.materials[quad.material];
-    let Bsdf::Lambert(l) = shiny.bsdf;
-    assert_eq!(l.albedo, Vec3::new(0.8, 0.2, 0.1));
+    // illum 2: normalised Phong–Blinn with kd = Kd/π, ks = Ks, γ = Ns.
+    let Bsdf::PhongBlinn(p) = shiny.bsdf else {
+        panic!("shiny: expected PhongBlinn, got {:?}", shiny.bsdf)
+    };
+    assert!((p.kd * std::f32::consts::PI - Vec3::new(0.8, 0.2, 0.1)).length() < 1e-6);
+    assert_eq!((p.ks, p.shininess), (Vec3::splat(0.5), 64.0));
+    assert_eq!(p.variant, PhongVariant::Normalized);
     assert!(shiny.double_sided);
 
     let lamp = &scene.materials[by_name("lamp").material];
@@ -168,12 +175,91 @@ fn materials_textures_normals_and_uvs() {
     for part in [
         "material 'shiny'",
         "ok_materials.mtl",
-        "approximated as Lambertian",
-        "specular Ks (0.5 0.5 0.5), Ns 64 dropped",
         "transparency (d 0.5) ignored (opaque)",
     ] {
         assert!(w.contains(part), "{part}: {w}");
     }
+    assert!(!w.contains("Ks"), "Ks is used now: {w}");
+}
+
+#[test]
+fn illum_modes_map_to_the_nearest_model() {
+    let scene = load("illum.obj");
+    let bsdf = |name: &str| {
+        let mesh = scene.meshes.iter().find(|m| m.name == name).unwrap();
+        let m = &scene.materials[mesh.material];
+        assert_eq!(m.name, name);
+        (m.bsdf, m.double_sided)
+    };
+    let lambert = |name: &str| match bsdf(name).0 {
+        Bsdf::Lambert(l) => l.albedo,
+        other => panic!("{name}: expected Lambert, got {other:?}"),
+    };
+    // 0, 1: Lambert with Kd (illum 1 switches Ks off exactly).
+    assert_eq!(lambert("flat0"), Vec3::splat(0.5));
+    assert_eq!(lambert("flat1"), Vec3::new(0.2, 0.3, 0.4));
+    // 2: Phong–Blinn (normalised), kd = Kd/π; without Ks exactly Lambert;
+    // a material with Ks and no illum is read as illum 2.
+    for (name, kd, ks, ns) in [
+        ("phong", Vec3::new(0.4, 0.2, 0.1), 0.3, 50.0),
+        ("no_illum", Vec3::splat(0.5), 0.2, 10.0),
+    ] {
+        let Bsdf::PhongBlinn(p) = bsdf(name).0 else {
+            panic!("{name}: expected PhongBlinn, got {:?}", bsdf(name).0)
+        };
+        assert!((p.kd * std::f32::consts::PI - kd).length() < 1e-6, "{name}");
+        assert_eq!((p.ks, p.shininess), (Vec3::splat(ks), ns), "{name}");
+        assert_eq!(p.variant, PhongVariant::Normalized);
+    }
+    assert_eq!(lambert("phong_no_ks"), Vec3::splat(0.4));
+    // 3: mirror of reflectance Ks.
+    let Bsdf::Mirror(m) = bsdf("mirror").0 else {
+        panic!("mirror: {:?}", bsdf("mirror").0)
+    };
+    assert_eq!(m.reflectance, Vec3::new(0.9, 0.8, 0.7));
+    // 5: Fresnel mirror whose normal-incidence reflectance is Ks.
+    let Bsdf::Conductor(c) = bsdf("fresnel").0 else {
+        panic!("fresnel: {:?}", bsdf("fresnel").0)
+    };
+    assert_eq!(c.fresnel, FresnelModel::Schlick);
+    let f0 = f0_from_ior(c.eta, c.k);
+    assert!(
+        (f0 - Rgb::new(0.04, 0.25, 1.0)).abs().max_element() < 1e-3,
+        "{f0}"
+    );
+    // 4/6/7/9: smooth dielectric with Ni and Tf, two-sided.
+    let (Bsdf::Dielectric(g), two_sided) = bsdf("glass") else {
+        panic!("glass: {:?}", bsdf("glass").0)
+    };
+    assert_eq!((g.eta, g.tint), (1.45, Vec3::new(0.9, 0.95, 1.0)));
+    assert_eq!(g.fresnel, FresnelModel::Exact);
+    assert!(two_sided);
+    let Bsdf::Dielectric(g) = bsdf("glass_no_ni").0 else {
+        panic!("glass_no_ni: {:?}", bsdf("glass_no_ni").0)
+    };
+    assert_eq!((g.eta, g.tint), (1.5, Vec3::ONE));
+    // Others: nearest (Lambert) with a warning.
+    assert_eq!(lambert("odd"), Vec3::splat(0.3));
+    // Pr/Pm: metallic–roughness.
+    let Bsdf::MetallicRoughness(p) = bsdf("pbr").0 else {
+        panic!("pbr: {:?}", bsdf("pbr").0)
+    };
+    assert_eq!(p.base_color, Vec3::new(0.6, 0.5, 0.4));
+    assert_eq!((p.metallic, p.roughness, p.ior), (1.0, 0.3, 1.5));
+
+    let w = &scene.warnings;
+    assert_eq!(w.len(), 2, "{w:#?}");
+    assert!(
+        w.iter()
+            .any(|s| s.contains("'glass_no_ni'")
+                && s.contains("illum 4 without Ni: ior 1.5 assumed")),
+        "{w:#?}"
+    );
+    assert!(
+        w.iter().any(|s| s.contains("'odd'")
+            && s.contains("illum 10 has no nearer model than Lambertian (Kd); Ks dropped")),
+        "{w:#?}"
+    );
 }
 
 /// Replaces each line of a valid MTL file with hostile statements and loads

@@ -270,7 +270,11 @@ fn more_value_errors_name_path_and_range() {
         ("[render]\nseed = -3\n", &["render.seed", "got -3"]),
         (
             "[[materials]]\nname = \"m\"\ntype = \"ggx\"\nalbedo = 0.5\n",
-            &["materials[0].type", "'ggx' is not supported yet", "lambert"],
+            &[
+                "materials[0].type",
+                "unknown material type 'ggx'",
+                "lambert, phong, mirror, conductor, dielectric, metallic-roughness",
+            ],
         ),
         (
             "[[materials]]\nname = \"m\"\ntype = \"plastic\"\n",

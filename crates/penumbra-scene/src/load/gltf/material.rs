@@ -1,12 +1,25 @@
-//! glTF materials → penumbra materials (Lambertian for now), and textures.
+//! glTF materials → penumbra materials, and textures.
 //!
-//! Exact: `baseColorFactor` (× `baseColorTexture` on TEXCOORD_0, sRGB-decoded)
-//! as Lambertian albedo when the glTF BRDF has no specular part, i.e.
-//! `metallicFactor = 0` and the dielectric layer is switched off by
-//! `KHR_materials_specular.specularFactor = 0` (or by `ior = 1`, F0 = 0);
-//! emission = `emissiveFactor × KHR_materials_emissive_strength`;
-//! `doubleSided`. Everything else is approximated, and each material that
-//! needed approximating gets ONE warning listing what was dropped.
+//! Every material maps to the glTF metallic–roughness model
+//! (`Bsdf::MetallicRoughness`): `baseColorFactor` (× `baseColorTexture` on
+//! TEXCOORD_0, sRGB-decoded), `metallicFactor`, `roughnessFactor`
+//! (× `metallicRoughnessTexture`, linear, roughness in G and metallic in B),
+//! `KHR_materials_ior` (`ior`, default 1.5), `KHR_materials_transmission`
+//! (`transmissionFactor`), `KHR_materials_specular` (`specularFactor`,
+//! `specularColorFactor`); emission = `emissiveFactor ×
+//! KHR_materials_emissive_strength`; `doubleSided` (forced on for
+//! transmission > 0: light crosses the surface both ways).
+//!
+//! Exactly-Lambertian materials stay `Bsdf::Lambert` (base colour as albedo):
+//! `metallicFactor = 0`, no transmission, and the dielectric layer switched
+//! off (F0 = ((ior−1)/(ior+1))² · specularFactor · max specularColorFactor =
+//! 0, i.e. `specularFactor = 0` or `ior = 1`).
+//!
+//! Still ignored, with ONE warning per material listing it: alpha modes,
+//! `normalTexture`, `occlusionTexture`, `emissiveTexture`,
+//! `transmissionTexture`, `specularTexture`, `specularColorTexture`, other
+//! TEXCOORD sets, texture-transform and other extensions; factors outside
+//! [0, 1] are clamped (noted).
 
 use super::Loader;
 use super::container::decode_data_uri;
@@ -14,16 +27,17 @@ use super::texture::decode_texture;
 use crate::error::{Location, SceneError};
 use crate::material::{Material, MaterialId};
 use crate::paths::resolve_uri;
+use crate::texture::Texture;
 use crate::texture::TextureId;
 use ::gltf::json::material::AlphaMode;
 use ::gltf::json::texture::WrappingMode;
 use ::gltf::json::validation::Checked;
 use penumbra_shading::Rgb;
-use penumbra_shading::bsdf::{Bsdf, Lambert};
+use penumbra_shading::bsdf::{Bsdf, Lambert, MetallicRoughness};
 use std::borrow::Cow;
 
-/// Material extensions whose parameters are read (exactly or approximated
-/// with a specific note); any other material extension is listed as ignored.
+/// Material extensions whose parameters are read; any other material
+/// extension is listed as ignored.
 const READ_MATERIAL_EXTENSIONS: &[&str] = &[
     "KHR_materials_emissive_strength",
     "KHR_materials_specular",
@@ -87,38 +101,62 @@ impl Loader<'_> {
             .and_then(|e| e.emissive_strength.as_ref())
             .map_or(1.0, |s| s.emissive_strength.0);
 
-        // Metal part: F0 = baseColor, no diffuse.
-        if metallic > 0.0 {
-            notes.push(format!(
-                "metallicFactor {metallic} (metal reflection dropped, baseColor used as diffuse albedo)"
+        let ext_path = |e: &str, k: &str| format!("{path}.extensions.{e}.{k}");
+        if !ior.is_finite() || ior <= 0.0 {
+            return Err(SceneError::at_path(
+                self.file,
+                ext_path("KHR_materials_ior", "ior"),
+                format!("ior must be finite and > 0, got {ior}"),
             ));
         }
-        // Dielectric specular layer: F0 = ((ior−1)/(ior+1))² · specularColor ·
-        // specularFactor; absent when that product is 0.
-        let f0 = ((ior - 1.0) / (ior + 1.0)).powi(2);
-        let spec_max = spec_color[0].max(spec_color[1]).max(spec_color[2]);
-        let specular_layer = metallic < 1.0 && spec_factor * spec_max * f0 > 0.0;
-        if specular_layer {
-            let mut s =
-                format!("dielectric specular layer dropped (roughness {roughness}, ior {ior}");
-            if specular.is_some() {
-                s.push_str(&format!(", specularFactor {spec_factor}"));
+        let file = self.file;
+        let mut unit = |what: &str, x: f32| -> Result<f32, SceneError> {
+            if !x.is_finite() {
+                return Err(SceneError::at_path(
+                    file,
+                    path.clone(),
+                    format!("{what} is not finite"),
+                ));
             }
-            s.push(')');
-            notes.push(s);
-        }
-        if pbr.metallic_roughness_texture.is_some() && (metallic > 0.0 || specular_layer) {
-            notes.push("metallicRoughnessTexture ignored".into());
-        }
-        if trans_factor > 0.0 {
-            let tex = if transmission.is_some_and(|t| t.transmission_texture.is_some()) {
-                " and transmissionTexture"
-            } else {
-                ""
-            };
-            notes.push(format!(
-                "transmission {trans_factor}{tex} ignored (opaque; ior {ior} has no effect)"
+            let c = x.clamp(0.0, 1.0);
+            if c != x {
+                notes.push(format!("{what} {x} clamped to [0, 1]"));
+            }
+            Ok(c)
+        };
+        let metallic = unit("metallicFactor", metallic)?;
+        let roughness = unit("roughnessFactor", roughness)?;
+        let spec_factor = unit("specularFactor", spec_factor)?;
+        let trans_factor = unit("transmissionFactor", trans_factor)?;
+        let specular_color = Rgb::from(spec_color);
+        if !specular_color.is_finite() || specular_color.min_element() < 0.0 {
+            return Err(SceneError::at_path(
+                self.file,
+                ext_path("KHR_materials_specular", "specularColorFactor"),
+                format!("specularColorFactor {specular_color} must be finite and >= 0"),
             ));
+        }
+        // The dielectric layer reflects F0 = ((ior−1)/(ior+1))² ·
+        // specularColor · specularFactor; with that 0, no metal and no
+        // transmission the glTF BRDF is exactly Lambertian.
+        let f0 = ((ior - 1.0) / (ior + 1.0)).powi(2);
+        let specular_layer = spec_factor * specular_color.max_element() * f0 > 0.0;
+        let lambertian = metallic == 0.0 && !specular_layer && trans_factor == 0.0;
+        if !lambertian {
+            if let Some(t) = transmission.and_then(|t| t.transmission_texture.as_ref()) {
+                notes.push(format!(
+                    "transmissionTexture (textures[{}]) ignored (transmissionFactor used)",
+                    t.index.value()
+                ));
+            }
+            if let Some(s) = specular {
+                if s.specular_texture.is_some() {
+                    notes.push("specularTexture ignored (specularFactor used)".into());
+                }
+                if s.specular_color_texture.is_some() {
+                    notes.push("specularColorTexture ignored (specularColorFactor used)".into());
+                }
+            }
         }
         match &m.alpha_mode {
             Checked::Valid(AlphaMode::Opaque) => {}
@@ -183,27 +221,92 @@ impl Loader<'_> {
             None => None,
         };
 
+        // metallicRoughnessTexture (linear data: roughness in G, metallic in
+        // B): only where the model has a specular part for it to modulate.
+        let metallic_roughness_texture = match &pbr.metallic_roughness_texture {
+            Some(info) if !lambertian => {
+                if info.tex_coord != 0 {
+                    notes.push(format!(
+                        "metallicRoughnessTexture uses TEXCOORD_{} (TEXCOORD_0 used)",
+                        info.tex_coord
+                    ));
+                }
+                Some(self.data_texture(info.index.value(), &mut notes)?)
+            }
+            _ => None,
+        };
+
         if !notes.is_empty() {
             self.scene.warnings.push(format!(
-                "{}: material '{name}' ({path}) approximated as Lambertian: {}",
+                "{}: material '{name}' ({path}): {}",
                 self.file.display(),
                 notes.join("; ")
             ));
         }
+        let bsdf = if lambertian {
+            Bsdf::Lambert(Lambert::new(albedo))
+        } else {
+            Bsdf::MetallicRoughness(MetallicRoughness {
+                base_color: albedo,
+                metallic,
+                roughness,
+                ior,
+                transmission: trans_factor,
+                specular: spec_factor,
+                specular_color,
+            })
+        };
         let id = self.scene.add_material(Material {
             name,
-            bsdf: Bsdf::Lambert(Lambert::new(albedo)),
+            bsdf,
             albedo_texture,
+            metallic_roughness_texture,
             emission,
-            double_sided: m.double_sided,
+            // Transmitted light crosses the surface both ways.
+            double_sided: m.double_sided || trans_factor > 0.0,
         });
         self.materials.insert(i, id);
         Ok(id)
     }
 
-    /// The scene texture for glTF `textures[t]`, decoded on first use.
-    /// Sampler settings that cannot be honoured are added to `notes`.
+    /// The scene texture for glTF `textures[t]` as colour (sRGB-decoded),
+    /// decoded on first use. Sampler settings that cannot be honoured are
+    /// added to `notes`.
     fn texture(&mut self, t: usize, notes: &mut Vec<String>) -> Result<TextureId, SceneError> {
+        if let Some(&id) = self.textures.get(&t) {
+            self.sampler_notes(t, notes)?;
+            return Ok(id);
+        }
+        let (bytes, name, ipath) = self.image_bytes(t, notes)?;
+        let texture = decode_texture(&bytes, name).map_err(|e| {
+            SceneError::at_path(self.file, ipath, format!("cannot decode image: {e}"))
+        })?;
+        self.scene.textures.push(texture);
+        let id = self.scene.textures.len() - 1;
+        self.textures.insert(t, id);
+        Ok(id)
+    }
+
+    /// The scene texture for glTF `textures[t]` as linear data (no transfer
+    /// function: metallicRoughnessTexture). Not shared with colour uses.
+    fn data_texture(&mut self, t: usize, notes: &mut Vec<String>) -> Result<TextureId, SceneError> {
+        let (bytes, name, ipath) = self.image_bytes(t, notes)?;
+        let img = image::load_from_memory(&bytes).map_err(|e| {
+            SceneError::at_path(self.file, ipath, format!("cannot decode image: {e}"))
+        })?;
+        let rgb = img.to_rgb32f();
+        let texture = Texture {
+            name,
+            width: rgb.width(),
+            height: rgb.height(),
+            texels: rgb.pixels().map(|p| Rgb::new(p[0], p[1], p[2])).collect(),
+        };
+        self.scene.textures.push(texture);
+        Ok(self.scene.textures.len() - 1)
+    }
+
+    /// Notes for sampler settings of `textures[t]` that cannot be honoured.
+    fn sampler_notes(&self, t: usize, notes: &mut Vec<String>) -> Result<(), SceneError> {
         let tpath = format!("textures[{t}]");
         let tex = self.root.textures.get(t).ok_or_else(|| {
             SceneError::at_path(
@@ -222,9 +325,19 @@ impl Loader<'_> {
                 }
             }
         }
-        if let Some(&id) = self.textures.get(&t) {
-            return Ok(id);
-        }
+        Ok(())
+    }
+
+    /// The encoded bytes of `textures[t]`'s image, a name for it, and its
+    /// key path; sampler notes are added to `notes`.
+    fn image_bytes(
+        &self,
+        t: usize,
+        notes: &mut Vec<String>,
+    ) -> Result<(Vec<u8>, String, String), SceneError> {
+        self.sampler_notes(t, notes)?;
+        let tpath = format!("textures[{t}]");
+        let tex = &self.root.textures[t];
         let src = tex.source.value();
         let ipath = format!("images[{src}]");
         let img = self.root.images.get(src).ok_or_else(|| {
@@ -266,12 +379,6 @@ impl Loader<'_> {
             ));
         };
         let name = img.name.clone().unwrap_or(label);
-        let texture = decode_texture(&bytes, name).map_err(|e| {
-            SceneError::at_path(self.file, ipath, format!("cannot decode image: {e}"))
-        })?;
-        self.scene.textures.push(texture);
-        let id = self.scene.textures.len() - 1;
-        self.textures.insert(t, id);
-        Ok(id)
+        Ok((bytes.into_owned(), name, ipath))
     }
 }

@@ -1,13 +1,24 @@
 //! MTL files: a checking pass before `tobj` parses them (it reports no line
 //! numbers and panics on a colour with fewer than three numbers), and the
-//! conversion of `tobj` materials to penumbra's (Lambertian for now).
+//! conversion of `tobj` materials to penumbra's.
 //!
-//! Exact: `Kd` (× `map_Kd`, sRGB-decoded) as albedo, `Ke` as emitted
-//! radiance. Recorded as approximations, one warning per material, when they
-//! would change the appearance: `Ks` > 0 (with `Ns`) unless `illum` 0/1,
-//! `d` < 1 / `Tr` > 0, `Tf` < 1 with a refracting `illum` (with `Ni`),
-//! `illum` ≥ 3, `map_Ks`/`map_Ns`/`map_d`/`bump`/`norm`/`disp`/`map_Ke`,
-//! PBR extension parameters (`Pr`, `Pm`, ...), `map_Kd` options.
+//! `Kd` (× `map_Kd`, sRGB-decoded) is the diffuse colour (clamped to [0, 1]),
+//! `Ke` the emitted radiance. The `illum` mode picks the nearest model:
+//!
+//! | `illum` | model | parameters |
+//! |---|---|---|
+//! | 0, 1 | `Lambert` | albedo `Kd` (`Ks` switched off) |
+//! | 2 (also: no `illum` but `Ks` > 0) | `PhongBlinn`, variant `Normalized` | kd = `Kd`/π, ks = `Ks` (the lobe's reflectance, clamped to [0, 1]), shininess γ = `Ns`; `Ks` = 0 gives `Lambert` |
+//! | 3, 8 | `Mirror` | reflectance `Ks`; `Kd` ignored (warned); 8 warned as read as 3 |
+//! | 5 | `Conductor` (Schlick Fresnel, κ = 0) | η per band with ((η−1)/(η+1))² = `Ks`: a Fresnel mirror whose normal reflectance is `Ks`; `Kd` ignored (warned) |
+//! | 4, 6, 7, 9 | `Dielectric` (exact Fresnel), two-sided | η = `Ni` (1.5 if absent, warned), tint = `Tf` (default 1); `Kd` ignored (warned) |
+//! | 10 and others | `Lambert` | `Kd`, warned (`Ks` dropped) |
+//! | any, with `Pr` or `Pm` | `MetallicRoughness` | base colour `Kd`, roughness `Pr` (default 1), metallic `Pm` (default 0), ior `Ni` (default 1.5) |
+//!
+//! Recorded as warnings, one per material, when they would change the
+//! appearance: `d` < 1 / `Tr` > 0 (dissolve is not modelled), the maps
+//! `map_Ks`/`map_Ns`/`map_d`/`bump`/`norm`/`disp`/`map_Ke`, the other PBR
+//! extension parameters (`Ps`, `Pc`, ...), `map_Kd` options, clamped values.
 
 use super::ObjLoader;
 use crate::error::{Location, SceneError};
@@ -15,8 +26,12 @@ use crate::load::gltf::texture::decode_texture;
 use crate::material::{Material, MaterialId};
 use crate::paths::resolve_uri;
 use penumbra_shading::Rgb;
-use penumbra_shading::bsdf::{Bsdf, Lambert};
+use penumbra_shading::bsdf::{
+    Bsdf, Conductor, Dielectric, FresnelModel, Lambert, MetallicRoughness, Mirror, PhongBlinn,
+    PhongVariant,
+};
 use std::collections::HashMap;
+use std::f32::consts::FRAC_1_PI;
 use std::path::{Path, PathBuf};
 
 /// An MTL file after the checking pass.
@@ -183,43 +198,114 @@ impl ObjLoader<'_> {
         let emission = Rgb::from(mat.emissive.unwrap_or([0.0; 3]));
 
         let illum = mat.illumination_model;
-        let ks = mat.specular.unwrap_or([0.0; 3]);
-        let has_specular = ks.iter().any(|&c| c > 0.0) && !matches!(illum, Some(0) | Some(1));
-        if has_specular {
-            let ns = mat.shininess.map_or(String::new(), |n| format!(", Ns {n}"));
-            notes.push(format!("specular Ks {}{ns} dropped", fmt_rgb(ks)));
-        }
+        let ks_raw = mat.specular.unwrap_or([0.0; 3]);
+        let ks = Rgb::from(ks_raw).min(Rgb::ONE);
         let param = |k: &str| mat.unknown_param.get(k).map(String::as_str);
+        let scalar = |k: &str| param(k).and_then(|t| t.trim().parse::<f32>().ok());
         let dissolve = mat
             .dissolve
-            .or_else(|| {
-                param("Tr")
-                    .and_then(|t| t.trim().parse::<f32>().ok())
-                    .map(|t| 1.0 - t)
-            })
+            .or_else(|| scalar("Tr").map(|t| 1.0 - t))
             .unwrap_or(1.0);
-        let refracting = matches!(illum, Some(4) | Some(6) | Some(7) | Some(9));
+        let ni = mat.optical_density.filter(|n| *n > 0.0);
         let tf = param("Tf").and_then(parse_floats).filter(|v| v.len() == 3);
-        let filters = refracting && tf.as_ref().is_some_and(|v| v.iter().any(|&c| c < 1.0));
-        if dissolve < 1.0 || filters {
-            let mut s = String::from("transparency");
-            if dissolve < 1.0 {
-                s.push_str(&format!(" (d {dissolve})"));
+        let (pr, pm) = (scalar("Pr"), scalar("Pm"));
+        let clamp_ks = |notes: &mut Vec<String>| {
+            if ks != Rgb::from(ks_raw) {
+                notes.push(format!("Ks {} clamped to [0, 1]", fmt_rgb(ks_raw)));
             }
-            if filters && let Some(tf) = &tf {
-                s.push_str(&format!(" (Tf {})", fmt_rgb([tf[0], tf[1], tf[2]])));
+        };
+        let kd_unused = |notes: &mut Vec<String>, why: &str| {
+            if mat.diffuse.is_some() && clamped.max_element() > 0.0 {
+                notes.push(format!("Kd {} ignored ({why})", fmt_rgb(kd)));
             }
-            if let Some(ni) = mat.optical_density {
-                s.push_str(&format!(" with Ni {ni}"));
+        };
+        // See the module docs for the table.
+        let mut refracting = false;
+        let bsdf = if pr.is_some() || pm.is_some() {
+            let unit = |k: &str, v: Option<f32>, d: f32, notes: &mut Vec<String>| {
+                let x = v.unwrap_or(d);
+                let c = x.clamp(0.0, 1.0);
+                if c != x {
+                    notes.push(format!("{k} {x} clamped to [0, 1]"));
+                }
+                c
+            };
+            let roughness = unit("Pr", pr, 1.0, &mut notes);
+            let metallic = unit("Pm", pm, 0.0, &mut notes);
+            Bsdf::MetallicRoughness(MetallicRoughness {
+                base_color: clamped,
+                metallic,
+                roughness,
+                ior: ni.unwrap_or(1.5),
+                transmission: 0.0,
+                specular: 1.0,
+                specular_color: Rgb::ONE,
+            })
+        } else {
+            match illum.unwrap_or(if ks.max_element() > 0.0 { 2 } else { 1 }) {
+                0 | 1 => Bsdf::Lambert(Lambert::new(clamped)),
+                2 if ks.max_element() <= 0.0 => Bsdf::Lambert(Lambert::new(clamped)),
+                2 => {
+                    clamp_ks(&mut notes);
+                    Bsdf::PhongBlinn(PhongBlinn {
+                        kd: clamped * FRAC_1_PI,
+                        ks,
+                        shininess: mat.shininess.unwrap_or(0.0).max(0.0),
+                        variant: PhongVariant::Normalized,
+                    })
+                }
+                n @ (3 | 8) => {
+                    clamp_ks(&mut notes);
+                    kd_unused(
+                        &mut notes,
+                        &format!("illum {n} is a mirror of reflectance Ks"),
+                    );
+                    if n == 8 {
+                        notes.push(
+                            "illum 8 (reflection without ray tracing) read as illum 3".into(),
+                        );
+                    }
+                    Bsdf::Mirror(Mirror { reflectance: ks })
+                }
+                5 => {
+                    clamp_ks(&mut notes);
+                    kd_unused(&mut notes, "illum 5 is a Fresnel mirror");
+                    // A real index per band whose normal reflectance is Ks:
+                    // F0 = ((n−1)/(n+1))² ⇔ n = (1 + √F0)/(1 − √F0).
+                    let s = Rgb::new(ks.x.sqrt(), ks.y.sqrt(), ks.z.sqrt()).min(Rgb::splat(0.9999));
+                    Bsdf::Conductor(Conductor {
+                        eta: (Rgb::ONE + s) / (Rgb::ONE - s),
+                        k: Rgb::ZERO,
+                        fresnel: FresnelModel::Schlick,
+                    })
+                }
+                n @ (4 | 6 | 7 | 9) => {
+                    refracting = true;
+                    kd_unused(&mut notes, &format!("illum {n} is a clear dielectric"));
+                    if ni.is_none() {
+                        notes.push(format!("illum {n} without Ni: ior 1.5 assumed"));
+                    }
+                    let tint = tf.as_ref().map_or(Rgb::ONE, |v| Rgb::new(v[0], v[1], v[2]));
+                    let tint_c = tint.clamp(Rgb::ZERO, Rgb::ONE);
+                    if tint_c != tint {
+                        notes.push(format!("Tf {} clamped to [0, 1]", fmt_rgb(tint.into())));
+                    }
+                    Bsdf::Dielectric(Dielectric {
+                        eta: ni.unwrap_or(1.5),
+                        tint: tint_c,
+                        fresnel: FresnelModel::Exact,
+                    })
+                }
+                n => {
+                    notes.push(format!(
+                        "illum {n} has no nearer model than Lambertian (Kd); Ks dropped"
+                    ));
+                    Bsdf::Lambert(Lambert::new(clamped))
+                }
             }
-            s.push_str(" ignored (opaque)");
-            notes.push(s);
-        }
-        if let Some(n) = illum
-            && n >= 3
-            && (has_specular || dissolve < 1.0 || filters)
-        {
-            notes.push(format!("illum {n} (reflection/refraction) ignored"));
+        };
+        if dissolve < 1.0 {
+            notes.push(format!("transparency (d {dissolve}) ignored (opaque)"));
         }
         for (key, present) in [
             ("map_Ks", mat.specular_texture.is_some()),
@@ -242,8 +328,6 @@ impl ObjLoader<'_> {
                         | "decal"
                         | "refl"
                         | "map_Ke"
-                        | "Pr"
-                        | "Pm"
                         | "Ps"
                         | "Pc"
                         | "Pcr"
@@ -303,7 +387,7 @@ impl ObjLoader<'_> {
 
         if !notes.is_empty() {
             self.scene.warnings.push(format!(
-                "{}: material '{}' ({}) approximated as Lambertian: {}",
+                "{}: material '{}' ({}): {}",
                 self.file.display(),
                 mat.name,
                 source.file.display(),
@@ -314,10 +398,12 @@ impl ObjLoader<'_> {
         let emissive = emission.max_element() > 0.0;
         Ok(self.scene.add_material(Material {
             name: mat.name.clone(),
-            bsdf: Bsdf::Lambert(Lambert::new(clamped)),
+            bsdf,
             albedo_texture,
+            metallic_roughness_texture: None,
             emission,
-            double_sided: !emissive,
+            // Dielectrics are crossed both ways.
+            double_sided: refracting || !emissive,
         }))
     }
 }

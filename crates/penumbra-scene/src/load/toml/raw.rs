@@ -55,16 +55,52 @@ pub(super) struct RawMaterial {
     pub name: Option<String>,
     #[serde(rename = "type")]
     pub kind: Option<String>,
-    pub albedo: Option<Floats>,
-    pub kd: Option<Floats>,
     pub emission: Option<Floats>,
     pub double_sided: Option<bool>,
+    // Type parameters (each type takes a subset, see `present_keys`).
+    pub albedo: Option<Floats>,
+    pub kd: Option<Floats>,
+    pub ks: Option<Floats>,
+    pub shininess: Option<f64>,
+    pub variant: Option<String>,
+    pub reflectance: Option<Floats>,
+    pub preset: Option<String>,
+    pub eta: Option<Floats>,
+    pub k: Option<Floats>,
+    pub roughness: Option<f64>,
+    pub fresnel: Option<String>,
+    pub ior: Option<f64>,
+    pub tint: Option<Floats>,
+    pub base_color: Option<Floats>,
+    pub metallic: Option<f64>,
+    pub transmission: Option<f64>,
+    pub specular: Option<f64>,
+    pub specular_color: Option<Floats>,
 }
 
 impl RawMaterial {
     /// The type-specific keys present, for checking them against the type.
     pub fn present_keys(&self) -> Vec<&'static str> {
-        present(&[("albedo", self.albedo.is_some()), ("kd", self.kd.is_some())])
+        present(&[
+            ("albedo", self.albedo.is_some()),
+            ("kd", self.kd.is_some()),
+            ("ks", self.ks.is_some()),
+            ("shininess", self.shininess.is_some()),
+            ("variant", self.variant.is_some()),
+            ("reflectance", self.reflectance.is_some()),
+            ("preset", self.preset.is_some()),
+            ("eta", self.eta.is_some()),
+            ("k", self.k.is_some()),
+            ("roughness", self.roughness.is_some()),
+            ("fresnel", self.fresnel.is_some()),
+            ("ior", self.ior.is_some()),
+            ("tint", self.tint.is_some()),
+            ("base_color", self.base_color.is_some()),
+            ("metallic", self.metallic.is_some()),
+            ("transmission", self.transmission.is_some()),
+            ("specular", self.specular.is_some()),
+            ("specular_color", self.specular_color.is_some()),
+        ])
     }
 }
 

@@ -251,3 +251,43 @@ doc, _ = triangle_doc(extra={
 })
 doc["meshes"][0]["primitives"][0]["material"] = 0
 write("missing_image.gltf", dump(doc))
+
+# Material models: one primitive per material on the same triangle. Exact
+# Lambert (ior 1), glass (KHR_materials_transmission + _ior), a textured
+# metal (metallicRoughnessTexture, linear), KHR_materials_specular with
+# textures (ignored, warned) and emissive strength, and glTF's defaults.
+pos = f32s(TRI)
+doc = {
+    "asset": {"version": "2.0", "generator": "make_corpus.py"},
+    "extensionsUsed": ["KHR_materials_ior", "KHR_materials_transmission",
+                       "KHR_materials_specular", "KHR_materials_emissive_strength"],
+    "scenes": [{"nodes": [0]}],
+    "nodes": [{"mesh": 0}],
+    "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "material": m} for m in range(5)]}],
+    "materials": [
+        {"name": "matte", "pbrMetallicRoughness": {"baseColorFactor": [0.7, 0.6, 0.5, 1],
+                                                   "metallicFactor": 0},
+         "extensions": {"KHR_materials_ior": {"ior": 1.0}}},
+        {"name": "glass", "pbrMetallicRoughness": {"metallicFactor": 0, "roughnessFactor": 0},
+         "extensions": {"KHR_materials_ior": {"ior": 1.33},
+                        "KHR_materials_transmission": {"transmissionFactor": 0.9}}},
+        {"name": "metal", "pbrMetallicRoughness": {
+            "baseColorFactor": [1, 0.8, 0.3, 1], "metallicFactor": 1, "roughnessFactor": 0.25,
+            "metallicRoughnessTexture": {"index": 0}}},
+        {"name": "coated", "pbrMetallicRoughness": {"baseColorFactor": [0.1, 0.2, 0.3, 1],
+                                                    "metallicFactor": 0, "roughnessFactor": 0.5},
+         "emissiveFactor": [1, 0.5, 0],
+         "extensions": {"KHR_materials_specular": {"specularFactor": 0.5,
+                                                   "specularColorFactor": [1, 0.5, 0.25],
+                                                   "specularTexture": {"index": 0}},
+                        "KHR_materials_emissive_strength": {"emissiveStrength": 3}}},
+        {"name": "defaults"},
+    ],
+    "textures": [{"source": 0}],
+    "images": [{"uri": "data:image/png;base64," + base64.b64encode(png_2x1()).decode()}],
+    "buffers": [{"uri": data_uri(pos), "byteLength": len(pos)}],
+    "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": len(pos)}],
+    "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                   "min": [0, 0, 0], "max": [1, 1, 0]}],
+}
+write("ok_materials.gltf", dump(doc))
