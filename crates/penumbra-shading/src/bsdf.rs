@@ -29,6 +29,7 @@
 //! divided by η². Radiance, not importance, is transported.
 
 mod conductor;
+mod conductor_presets;
 mod dielectric;
 mod lambert;
 mod metallic_roughness;
@@ -40,6 +41,7 @@ mod rough_conductor;
 mod rough_dielectric;
 
 pub use conductor::Conductor;
+pub use conductor_presets::{CONDUCTOR_PRESETS, conductor_preset};
 pub use dielectric::Dielectric;
 pub use lambert::Lambert;
 pub use metallic_roughness::{DELTA_ALPHA, MetallicRoughness};

@@ -14,8 +14,9 @@
 //!   J. M. Elazar and M. L. Majewski, "Optical properties of metallic films
 //!   for vertical-cavity optoelectronic devices", Appl. Opt. 37, 5271 (1998),
 //!   Table 2 (ωp = 14.98 eV, f0 = 0.523, Γ0 = 0.047 eV and four
-//!   oscillators), evaluated at the same three photon energies (agrees with
-//!   the tabulation of Rakić, Appl. Opt. 34, 4755 (1995) to ~2%).
+//!   oscillators), evaluated at the same three photon energies (at 620 nm
+//!   it agrees with Hagemann et al. 1974 to about 1.5 %; not checked
+//!   against a tabulation at these exact wavelengths).
 //!
 //! Normal-incidence reflectances `((n−1)² + κ²)/((n+1)² + κ²)` (R, G, B):
 //! gold 0.963/0.787/0.408, silver 0.991/0.983/0.980, copper 0.943/0.619/0.539,

@@ -71,6 +71,15 @@ impl TraceContext<'_> {
         if let Some(t) = material.albedo_texture {
             bsdf = bsdf.tinted(self.scene.textures[t].sample(hit.uv));
         }
+        // glTF metallicRoughnessTexture: roughness × G, metallic × B.
+        if let (Some(t), Bsdf::MetallicRoughness(mut m)) =
+            (material.metallic_roughness_texture, bsdf)
+        {
+            let texel = self.scene.textures[t].sample(hit.uv);
+            m.roughness *= texel.y;
+            m.metallic *= texel.z;
+            bsdf = Bsdf::MetallicRoughness(m);
+        }
         if ng.dot(wo) < 0.0 {
             if !material.double_sided && !bsdf.flags().transmission {
                 return None;
