@@ -2,7 +2,7 @@
 //! lights plus every emissive triangle (area lights), chosen in proportion to
 //! emitted power.
 
-use crate::distribution::Distribution1D;
+use penumbra_shading::sampling::Distribution1D;
 use crate::geometry::SceneGeometry;
 use glam::Vec3;
 use penumbra_scene::Scene;
