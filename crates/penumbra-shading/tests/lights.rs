@@ -296,7 +296,10 @@ fn unified_light_equals_closed_forms() {
         let closed = phi * (r.normalize().dot(n)).max(0.0) / (4.0 * PI * r.length_squared());
         for s in [h.sample_li(x).unwrap(), point.sample_li(x).unwrap()] {
             let e = s.value.x * s.wi.dot(n).max(0.0);
-            assert!((e - closed).abs() <= 1e-5 * closed.max(1e-3), "{e} vs {closed}");
+            assert!(
+                (e - closed).abs() <= 1e-5 * closed.max(1e-3),
+                "{e} vs {closed}"
+            );
             assert!((s.distance - r.length()).abs() < 1e-5);
         }
         let closed_d = e0 * (-travel).dot(n).max(0.0);

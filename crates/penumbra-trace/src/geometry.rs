@@ -145,10 +145,11 @@ impl SceneGeometry {
 
     /// Is anything (triangle or area light) along `ray` before `ray.tmax`?
     pub fn occluded(&self, ray: &Ray) -> bool {
-        self.area_lights
-            .iter()
-            .any(|l| l.shape.intersect(ray.origin, ray.direction, ray.tmax).is_some())
-            || self.accel.occluded(ray)
+        self.area_lights.iter().any(|l| {
+            l.shape
+                .intersect(ray.origin, ray.direction, ray.tmax)
+                .is_some()
+        }) || self.accel.occluded(ray)
     }
 
     fn surface_at(&self, scene: &Scene, hit: &Hit) -> SurfaceHit {

@@ -2,13 +2,13 @@
 //! lights, its analytic area lights (sphere, disk, quad), every emissive
 //! triangle and the environment, chosen in proportion to emitted power.
 
-use penumbra_shading::sampling::Distribution1D;
 use crate::geometry::SceneGeometry;
 use glam::Vec3;
 use penumbra_scene::Scene;
 use penumbra_shading::Rgb;
 use penumbra_shading::color::luminance;
 use penumbra_shading::light::{Environment, LightSample};
+use penumbra_shading::sampling::Distribution1D;
 use penumbra_shading::sampling::square_to_triangle;
 
 /// One selectable light.

@@ -11,9 +11,7 @@ mod common;
 
 use common::*;
 use glam::{Vec2, Vec3};
-use penumbra_scene::{
-    Camera, IntegratorKind, Projection, RenderSettings, Scene, SceneAreaLight,
-};
+use penumbra_scene::{Camera, IntegratorKind, Projection, RenderSettings, Scene, SceneAreaLight};
 use penumbra_shading::Rgb;
 use penumbra_shading::light::{AreaLight, EnvironmentMap, Shape};
 use penumbra_trace::accel::BuildQuality;
@@ -58,7 +56,11 @@ fn radiance_at(scene: &Scene, p: Vec3, view: Vec3, kind: IntegratorKind, spp: u3
     scene.camera = Some(Camera::look_at(
         p + view.normalize() * 5.0,
         p,
-        if view.cross(Vec3::Z).length() > 0.1 { Vec3::Z } else { Vec3::X },
+        if view.cross(Vec3::Z).length() > 0.1 {
+            Vec3::Z
+        } else {
+            Vec3::X
+        },
         Projection::Orthographic { height: 1e-4 },
     ));
     let settings = RenderSettings {
@@ -83,7 +85,10 @@ const KINDS: [IntegratorKind; 3] = [
 ];
 
 fn check(what: &str, got: f32, expected: f32, tol: f32) {
-    eprintln!("{what}: {got} vs {expected} ({:+.3}%)", 100.0 * (got / expected - 1.0));
+    eprintln!(
+        "{what}: {got} vs {expected} ({:+.3}%)",
+        100.0 * (got / expected - 1.0)
+    );
     assert!(
         (got / expected - 1.0).abs() < tol,
         "{what}: {got} vs {expected}"
@@ -253,8 +258,10 @@ fn area_lights_occlude_and_are_hit() {
     // (0, −1, 0) written with +0 components: the BVH misses rays whose
     // direction has −0.0 components against this flat quad (−Vec3::Y).
     let down = g
-        .intersect(&scene, &Ray::new(Vec3::new(3.0, 1.0, 0.0), Vec3::new(0.0, -1.0, 0.0)))
+        .intersect(
+            &scene,
+            &Ray::new(Vec3::new(3.0, 1.0, 0.0), Vec3::new(0.0, -1.0, 0.0)),
+        )
         .unwrap();
     assert_eq!(down.light, None);
 }
-

@@ -118,8 +118,11 @@ impl Shape {
                 // q = a e1 + b e2 ⇒ q × e2 = a (e1 × e2), e1 × q = b (e1 × e2).
                 let a = q.cross(edge2).dot(nr) / n2;
                 let b = edge1.cross(q).dot(nr) / n2;
-                ((0.0..=1.0).contains(&a) && (0.0..=1.0).contains(&b))
-                    .then_some(ShapeHit { t, p, n })
+                ((0.0..=1.0).contains(&a) && (0.0..=1.0).contains(&b)).then_some(ShapeHit {
+                    t,
+                    p,
+                    n,
+                })
             }
         }
     }

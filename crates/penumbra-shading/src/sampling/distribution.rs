@@ -157,13 +157,20 @@ mod tests {
         let mut counts = [0usize; 6];
         for _ in 0..n {
             let (uv, p) = d.sample(rng.next_2d()).unwrap();
-            assert!((p - d.pdf(uv)).abs() < 1e-4 * p.max(1.0), "{p} vs {}", d.pdf(uv));
+            assert!(
+                (p - d.pdf(uv)).abs() < 1e-4 * p.max(1.0),
+                "{p} vs {}",
+                d.pdf(uv)
+            );
             let (c, r) = ((uv.x * 3.0) as usize, (uv.y * 2.0) as usize);
             counts[r * 3 + c] += 1;
         }
         for (i, wi) in w.iter().enumerate() {
             let expect = wi / total;
-            assert!((counts[i] as f32 / n as f32 - expect).abs() < 5e-3, "cell {i}");
+            assert!(
+                (counts[i] as f32 / n as f32 - expect).abs() < 5e-3,
+                "cell {i}"
+            );
             let uv = glam::Vec2::new(((i % 3) as f32 + 0.5) / 3.0, ((i / 3) as f32 + 0.5) / 2.0);
             assert!((d.pdf(uv) - expect * 6.0).abs() < 1e-5);
         }

@@ -25,11 +25,7 @@ pub fn li(ctx: &TraceContext, ray: &Ray, sampler: &mut Sampler) -> PathSample {
         .to_world(square_to_cosine_hemisphere(sampler.next_2d()));
     let ka = if wi.dot(s.ng) > 0.0 {
         let r = ctx.spawn(&s, wi, ctx.settings.ao_distance);
-        if ctx.geometry.occluded(&r) {
-            0.0
-        } else {
-            1.0
-        }
+        if ctx.geometry.occluded(&r) { 0.0 } else { 1.0 }
     } else {
         0.0
     };
