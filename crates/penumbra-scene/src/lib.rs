@@ -23,6 +23,6 @@ pub use error::{Location, SceneError};
 pub use load::{LoadOptions, load_scene};
 pub use material::{Material, MaterialId};
 pub use mesh::{Instance, Mesh, MeshId};
-pub use scene::{Scene, SceneLight};
+pub use scene::{Scene, SceneAreaLight, SceneLight};
 pub use settings::{IntegratorKind, RenderSettings};
 pub use texture::{Texture, TextureId};

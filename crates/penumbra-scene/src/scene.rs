@@ -7,7 +7,8 @@ use crate::settings::RenderSettings;
 use crate::texture::Texture;
 use glam::Vec3;
 use penumbra_shading::Rgb;
-use penumbra_shading::light::Light;
+use penumbra_shading::light::{AreaLight, Environment, EnvironmentMap, Light};
+use std::sync::Arc;
 
 /// A named abstract light.
 #[derive(Clone, Debug, PartialEq)]
@@ -16,8 +17,15 @@ pub struct SceneLight {
     pub light: Light,
 }
 
-/// Everything a renderer needs. Area lights are not listed here: they are
-/// the instances whose material has non-zero emission.
+/// A named analytic area light (sphere, disk or quad).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneAreaLight {
+    pub name: String,
+    pub light: AreaLight,
+}
+
+/// Everything a renderer needs. Emissive meshes are area lights too: the
+/// instances whose material has non-zero emission.
 #[derive(Clone, Debug, Default)]
 pub struct Scene {
     pub meshes: Vec<Mesh>,
@@ -25,10 +33,15 @@ pub struct Scene {
     pub materials: Vec<Material>,
     pub textures: Vec<Texture>,
     pub lights: Vec<SceneLight>,
+    /// Analytic emitting shapes, intersected beside the meshes.
+    pub area_lights: Vec<SceneAreaLight>,
     /// `None` until a loader or the user sets one; renderers then need a default.
     pub camera: Option<Camera>,
-    /// Constant radiance of the background / environment [W/(sr·m²)].
+    /// Constant radiance of the background / environment [W/(sr·m²)],
+    /// used when there is no `environment_map`.
     pub background: Rgb,
+    /// Equirectangular environment map; replaces `background` when set.
+    pub environment_map: Option<Arc<EnvironmentMap>>,
     pub settings: RenderSettings,
     /// Non-fatal problems found while loading (approximations, skipped data).
     pub warnings: Vec<String>,
@@ -47,6 +60,15 @@ impl Scene {
             }
         }
         (lo.x <= hi.x).then_some((lo, hi))
+    }
+
+    /// The environment seen by rays that escape: the map, else the
+    /// constant background.
+    pub fn environment(&self) -> Environment {
+        match &self.environment_map {
+            Some(m) => Environment::Map(m.clone()),
+            None => Environment::Constant(self.background),
+        }
     }
 
     /// Total number of triangles over all instances.

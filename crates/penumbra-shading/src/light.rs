@@ -1,12 +1,20 @@
-//! Abstract (delta) lights: directional, point and spot (SEEDS.md, Light
-//! sources). Area lights are emissive geometry and live in the tracer, which
-//! owns the geometry; they share [`LightSample`].
+//! Lights. Abstract (delta) lights: directional, point and spot (SEEDS.md,
+//! Light sources), evaluated through the notes' unified homogeneous form
+//! ([`HomogeneousLight`]). Analytic area lights ([`AreaLight`]: sphere, disk,
+//! quad) and the [`Environment`]; emissive triangles live in the tracer,
+//! which owns the geometry. All share [`LightSample`].
 
+mod area;
 mod directional;
+mod environment;
+mod homogeneous;
 mod point;
 mod spot;
 
+pub use area::{AreaLight, Shape, ShapeHit};
 pub use directional::DirectionalLight;
+pub use environment::{Environment, EnvironmentMap};
+pub use homogeneous::HomogeneousLight;
 pub use point::PointLight;
 pub use spot::SpotLight;
 
@@ -60,13 +68,19 @@ impl Light {
         }
     }
 
+    /// The unified homogeneous light (for spot lights without the cone
+    /// falloff).
+    pub fn homogeneous(&self) -> HomogeneousLight {
+        match self {
+            Light::Point(l) => l.homogeneous(),
+            Light::Directional(l) => l.homogeneous(),
+            Light::Spot(l) => HomogeneousLight::point(l.position, l.intensity),
+        }
+    }
+
     /// The notes' homogeneous light position (y, w): w = 1 for point and spot
     /// lights, w = 0 for directional ones (y = direction *towards* the light).
     pub fn homogeneous_position(&self) -> glam::Vec4 {
-        match self {
-            Light::Point(l) => l.position.extend(1.0),
-            Light::Spot(l) => l.position.extend(1.0),
-            Light::Directional(l) => (-l.direction).extend(0.0),
-        }
+        self.homogeneous().position
     }
 }

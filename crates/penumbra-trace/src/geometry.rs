@@ -1,10 +1,12 @@
 //! The scene flattened for tracing: world-space triangles in one BVH, and the
-//! surface data (normals, UVs, material) looked up at a hit.
+//! surface data (normals, UVs, material) looked up at a hit. The scene's few
+//! analytic area lights are intersected by a linear loop beside the BVH.
 
 use crate::accel::{Accel, BuildQuality, Hit};
 use crate::ray::Ray;
 use glam::{Mat3, Vec2, Vec3};
 use penumbra_scene::{MaterialId, Scene};
+use penumbra_shading::light::AreaLight;
 
 /// Where a triangle came from.
 #[derive(Clone, Copy, Debug)]
@@ -34,9 +36,13 @@ pub struct SurfaceHit {
     /// same side as `ng`.
     pub ns: Vec3,
     pub uv: Vec2,
+    /// Meaningless when `light` is set (check it first).
     pub material: MaterialId,
-    /// Triangle index in [`SceneGeometry`] order.
+    /// Triangle index in [`SceneGeometry`] order (u32::MAX for a light).
     pub triangle: u32,
+    /// Index into `Scene::area_lights` when the hit is on an analytic area
+    /// light (a pure emitter: `ng` = `ns` = its front normal, no material).
+    pub light: Option<u32>,
 }
 
 /// Scene triangles in world space with a BVH over them.
@@ -49,6 +55,8 @@ pub struct SceneGeometry {
     pub triangles: Vec<[Vec3; 3]>,
     sources: Vec<TriangleSource>,
     instances: Vec<InstanceData>,
+    /// The scene's analytic area lights, in `Scene::area_lights` order.
+    pub area_lights: Vec<AreaLight>,
 }
 
 impl SceneGeometry {
@@ -89,6 +97,7 @@ impl SceneGeometry {
             triangles,
             sources,
             instances,
+            area_lights: scene.area_lights.iter().map(|l| l.light).collect(),
         }
     }
 
@@ -110,8 +119,37 @@ impl SceneGeometry {
 
     /// Closest surface along `ray`.
     pub fn intersect(&self, scene: &Scene, ray: &Ray) -> Option<SurfaceHit> {
-        let hit = self.accel.intersect(ray)?;
-        Some(self.surface_at(scene, &hit))
+        let hit = self.accel.intersect(ray);
+        let mut tmax = hit.as_ref().map_or(ray.tmax, |h| h.t);
+        let mut light_hit = None;
+        for (i, l) in self.area_lights.iter().enumerate() {
+            if let Some(h) = l.shape.intersect(ray.origin, ray.direction, tmax) {
+                tmax = h.t;
+                light_hit = Some((i as u32, h));
+            }
+        }
+        if let Some((i, h)) = light_hit {
+            return Some(SurfaceHit {
+                p: h.p,
+                t: h.t,
+                ng: h.n,
+                ns: h.n,
+                uv: Vec2::ZERO,
+                material: 0,
+                triangle: u32::MAX,
+                light: Some(i),
+            });
+        }
+        Some(self.surface_at(scene, &hit?))
+    }
+
+    /// Is anything (triangle or area light) along `ray` before `ray.tmax`?
+    pub fn occluded(&self, ray: &Ray) -> bool {
+        self.area_lights.iter().any(|l| {
+            l.shape
+                .intersect(ray.origin, ray.direction, ray.tmax)
+                .is_some()
+        }) || self.accel.occluded(ray)
     }
 
     fn surface_at(&self, scene: &Scene, hit: &Hit) -> SurfaceHit {
@@ -152,6 +190,7 @@ impl SceneGeometry {
             uv,
             material: inst_data.material,
             triangle: hit.triangle,
+            light: None,
         }
     }
 }

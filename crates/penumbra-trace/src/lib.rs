@@ -3,7 +3,6 @@
 
 pub mod accel;
 pub mod bench;
-pub mod distribution;
 pub mod geometry;
 pub mod integrator;
 pub mod lights;

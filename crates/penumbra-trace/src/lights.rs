@@ -1,14 +1,14 @@
 //! Light selection and sampling for the integrators: the scene's abstract
-//! lights plus every emissive triangle (area lights), chosen in proportion to
-//! emitted power.
+//! lights, its analytic area lights (sphere, disk, quad), every emissive
+//! triangle and the environment, chosen in proportion to emitted power.
 
-use crate::distribution::Distribution1D;
 use crate::geometry::SceneGeometry;
 use glam::Vec3;
 use penumbra_scene::Scene;
 use penumbra_shading::Rgb;
 use penumbra_shading::color::luminance;
-use penumbra_shading::light::LightSample;
+use penumbra_shading::light::{Environment, LightSample, Shape};
+use penumbra_shading::sampling::Distribution1D;
 use penumbra_shading::sampling::square_to_triangle;
 
 /// One selectable light.
@@ -25,6 +25,10 @@ enum Entry {
         area: f32,
         normal: Vec3,
     },
+    /// Analytic area light (index into `Scene::area_lights`).
+    Shape(usize),
+    /// The environment (constant or map).
+    Environment,
 }
 
 /// A sampled light with the probability of having chosen it.
@@ -46,14 +50,41 @@ pub struct LightSampler {
     area: Distribution1D,
     /// For each geometry triangle: its entry index, or u32::MAX.
     entry_of_triangle: Vec<u32>,
+    /// Entry index of each analytic area light (u32::MAX if it emits nothing).
+    entry_of_shape: Vec<u32>,
+    /// Entry index of the environment, if it emits.
+    environment_entry: Option<usize>,
+    environment: Environment,
 }
 
 impl LightSampler {
     pub fn new(scene: &Scene, geometry: &SceneGeometry) -> Self {
-        let radius = scene
-            .bounds()
-            .map_or(1.0, |(lo, hi)| 0.5 * (hi - lo).length())
-            .max(1e-3);
+        // Scene radius over the meshes and the analytic area lights.
+        let mut points: Vec<Vec3> = scene.bounds().map_or(Vec::new(), |(lo, hi)| vec![lo, hi]);
+        for l in &scene.area_lights {
+            match l.light.shape {
+                Shape::Sphere { center, radius } | Shape::Disk { center, radius, .. } => {
+                    points.extend([center - Vec3::splat(radius), center + Vec3::splat(radius)]);
+                }
+                Shape::Quad {
+                    corner,
+                    edge1,
+                    edge2,
+                } => points.extend([
+                    corner,
+                    corner + edge1,
+                    corner + edge2,
+                    corner + edge1 + edge2,
+                ]),
+            }
+        }
+        let lo = points.iter().fold(Vec3::INFINITY, |a, &p| a.min(p));
+        let hi = points.iter().fold(Vec3::NEG_INFINITY, |a, &p| a.max(p));
+        let radius = if points.is_empty() {
+            1.0
+        } else {
+            (0.5 * (hi - lo).length()).max(1e-3)
+        };
         let mut entries = Vec::new();
         let mut weights = Vec::new();
         for (i, l) in scene.lights.iter().enumerate() {
@@ -84,6 +115,25 @@ impl LightSampler {
             });
             weights.push(w);
         }
+        let mut entry_of_shape = vec![u32::MAX; scene.area_lights.len()];
+        for (i, l) in scene.area_lights.iter().enumerate() {
+            let w = luminance(l.light.power());
+            if w > 0.0 && w.is_finite() {
+                entry_of_shape[i] = entries.len() as u32;
+                area_entries.push(entries.len());
+                entries.push(Entry::Shape(i));
+                weights.push(w);
+            }
+        }
+        let environment = scene.environment();
+        let mut environment_entry = None;
+        let w = luminance(environment.power(radius));
+        if w > 0.0 && w.is_finite() {
+            environment_entry = Some(entries.len());
+            area_entries.push(entries.len());
+            entries.push(Entry::Environment);
+            weights.push(w);
+        }
         let area = Distribution1D::new(area_entries.iter().map(|&e| weights[e]));
         let all = Distribution1D::new(weights);
         Self {
@@ -92,7 +142,15 @@ impl LightSampler {
             area_entries,
             area,
             entry_of_triangle,
+            entry_of_shape,
+            environment_entry,
+            environment,
         }
+    }
+
+    /// The environment (what escaping rays see).
+    pub fn environment(&self) -> &Environment {
+        &self.environment
     }
 
     pub fn is_empty(&self) -> bool {
@@ -113,8 +171,9 @@ impl LightSampler {
         Some(ChosenLight { sample, select_pdf })
     }
 
-    /// Picks an area light by power (the `local` integrator treats abstract
-    /// lights exactly and needs only area lights sampled).
+    /// Picks a light with extent (emissive triangle, analytic area light or
+    /// environment) by power (the `local` integrator treats abstract lights
+    /// exactly and needs only these sampled).
     pub fn sample_area(
         &self,
         scene: &Scene,
@@ -138,6 +197,8 @@ impl LightSampler {
     ) -> Option<LightSample> {
         match self.entries[i] {
             Entry::Abstract(l) => scene.lights[l].light.sample_li(p),
+            Entry::Shape(l) => geometry.area_lights[l].sample_li(p, u),
+            Entry::Environment => self.environment.sample_li(u),
             Entry::Triangle {
                 triangle,
                 radiance,
@@ -194,6 +255,28 @@ impl LightSampler {
             return 0.0;
         };
         self.all.pmf(e as usize) * dist2 / (area * cos)
+    }
+}
+
+impl LightSampler {
+    /// Solid-angle pdf with which [`LightSampler::sample`] would produce
+    /// direction `wi` from `p` towards analytic area light `light` (index
+    /// into `Scene::area_lights`), including the selection probability.
+    pub fn pdf_area_light(&self, geometry: &SceneGeometry, light: u32, p: Vec3, wi: Vec3) -> f32 {
+        let e = self.entry_of_shape[light as usize];
+        if e == u32::MAX {
+            return 0.0;
+        }
+        self.all.pmf(e as usize) * geometry.area_lights[light as usize].pdf_li(p, wi)
+    }
+
+    /// Solid-angle pdf with which [`LightSampler::sample`] would produce the
+    /// environment direction `wi`, including the selection probability.
+    pub fn pdf_environment(&self, wi: Vec3) -> f32 {
+        match self.environment_entry {
+            Some(e) => self.all.pmf(e) * self.environment.pdf(wi),
+            None => 0.0,
+        }
     }
 }
 

@@ -61,6 +61,16 @@ pub fn run(args: InfoArgs) -> Result<()> {
             l.name, p.x, p.y, p.z
         );
     }
+    (scene.area_lights.iter()).for_each(|l| {
+        println!(
+            "  area light '{}': {:?}, radiance {:?}, two-sided {}, power {:.4?} W",
+            l.name,
+            l.light.shape,
+            l.light.radiance,
+            l.light.two_sided,
+            l.light.power()
+        )
+    });
     // Area lights: emissive instances, power Φ = π L A per emitting side.
     for inst in &scene.instances {
         let m = scene.instance_material(inst);

@@ -1,7 +1,7 @@
 //! Directional light: irradiance E [W/m²] on a surface perpendicular to the
 //! light, the same everywhere (the sun).
 
-use super::LightSample;
+use super::{HomogeneousLight, LightSample};
 use crate::Rgb;
 use glam::Vec3;
 
@@ -14,14 +14,13 @@ pub struct DirectionalLight {
 }
 
 impl DirectionalLight {
-    pub fn sample_li(&self, _p: Vec3) -> Option<LightSample> {
-        Some(LightSample {
-            wi: -self.direction,
-            distance: f32::INFINITY,
-            value: self.irradiance,
-            pdf: 1.0,
-            is_delta: true,
-        })
+    pub fn sample_li(&self, p: Vec3) -> Option<LightSample> {
+        self.homogeneous().sample_li(p)
+    }
+
+    /// The unified form: (y, w) = (−direction, 0), M = E.
+    pub fn homogeneous(&self) -> HomogeneousLight {
+        HomogeneousLight::directional(self.direction, self.irradiance)
     }
 }
 

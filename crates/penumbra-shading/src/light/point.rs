@@ -1,6 +1,6 @@
 //! Isotropic point light: intensity I [W/sr] (or power Φ with I = Φ/4π).
 
-use super::LightSample;
+use super::{HomogeneousLight, LightSample};
 use crate::{Rgb, radiometry};
 use glam::Vec3;
 
@@ -23,19 +23,12 @@ impl PointLight {
     /// Irradiance on a perpendicular surface `E⊥ = I / r²` (notes:
     /// `M = Φ / 4π r²`); the caller multiplies by cos θ.
     pub fn sample_li(&self, p: Vec3) -> Option<LightSample> {
-        let d = self.position - p;
-        let r2 = d.length_squared();
-        if r2 == 0.0 || !r2.is_finite() {
-            return None;
-        }
-        let r = r2.sqrt();
-        Some(LightSample {
-            wi: d / r,
-            distance: r,
-            value: self.intensity / r2,
-            pdf: 1.0,
-            is_delta: true,
-        })
+        self.homogeneous().sample_li(p)
+    }
+
+    /// The unified form: (y, w) = (position, 1), M = I.
+    pub fn homogeneous(&self) -> HomogeneousLight {
+        HomogeneousLight::point(self.position, self.intensity)
     }
 
     /// Φ = 4π I.

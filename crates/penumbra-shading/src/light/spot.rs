@@ -2,7 +2,7 @@
 //! on the axis, full inside the inner cone, smoothly to 0 at the outer cone:
 //! `t = clamp((cos θ − cos θo) / (cos θi − cos θo), 0, 1)`, attenuation `t²`.
 
-use super::LightSample;
+use super::{HomogeneousLight, LightSample};
 use crate::Rgb;
 use glam::Vec3;
 
@@ -26,25 +26,15 @@ impl SpotLight {
         t * t
     }
 
+    /// The unified point-light form (w = 1, M = I) times the cone falloff.
     pub fn sample_li(&self, p: Vec3) -> Option<LightSample> {
-        let d = self.position - p;
-        let r2 = d.length_squared();
-        if r2 == 0.0 || !r2.is_finite() {
-            return None;
-        }
-        let r = r2.sqrt();
-        let wi = d / r;
-        let f = self.falloff(-wi);
+        let mut s = HomogeneousLight::point(self.position, self.intensity).sample_li(p)?;
+        let f = self.falloff(-s.wi);
         if f <= 0.0 {
             return None;
         }
-        Some(LightSample {
-            wi,
-            distance: r,
-            value: self.intensity * (f / r2),
-            pdf: 1.0,
-            is_delta: true,
-        })
+        s.value *= f;
+        Some(s)
     }
 
     /// Φ = ∫ I(ω) dω with the t² falloff, integrated in closed form over

@@ -12,6 +12,10 @@ pub fn li(ctx: &TraceContext, ray: &Ray, sampler: &mut Sampler) -> PathSample {
     let Some(hit) = ctx.geometry.intersect(ctx.scene, ray) else {
         return PathSample::default();
     };
+    if hit.light.is_some() {
+        // An emitter has no surface to occlude: black, like a back face.
+        return ctx.first_hit_aovs(None, &hit);
+    }
     let wo = -ray.direction;
     let shading = ctx.shading(&hit, wo);
     let mut out = ctx.first_hit_aovs(shading.as_ref(), &hit);
@@ -21,11 +25,7 @@ pub fn li(ctx: &TraceContext, ray: &Ray, sampler: &mut Sampler) -> PathSample {
         .to_world(square_to_cosine_hemisphere(sampler.next_2d()));
     let ka = if wi.dot(s.ng) > 0.0 {
         let r = ctx.spawn(&s, wi, ctx.settings.ao_distance);
-        if ctx.geometry.accel.occluded(&r) {
-            0.0
-        } else {
-            1.0
-        }
+        if ctx.geometry.occluded(&r) { 0.0 } else { 1.0 }
     } else {
         0.0
     };

@@ -1,8 +1,9 @@
 //! Local illumination (the notes' direct-light approximation, as in the
 //! real-time pipeline): `Lo = Le + Σ_k f(l_k, v) E_k cos θ_k` over every
 //! light, with **no shadow rays**. Abstract lights are summed exactly; area
-//! lights are estimated with one light sample per camera sample, also
-//! without visibility.
+//! lights (emissive triangles, spheres, disks, quads) and the environment
+//! are estimated with one light sample per camera sample, also without
+//! visibility.
 
 use super::{PathSample, TraceContext};
 use crate::lights::emitted;
@@ -13,11 +14,16 @@ use penumbra_shading::sampling::Sampler;
 pub fn li(ctx: &TraceContext, ray: &Ray, sampler: &mut Sampler) -> PathSample {
     let Some(hit) = ctx.geometry.intersect(ctx.scene, ray) else {
         return PathSample {
-            radiance: ctx.scene.background,
+            radiance: ctx.lights.environment().eval(ray.direction),
             ..Default::default()
         };
     };
     let wo = -ray.direction;
+    if let Some(l) = hit.light {
+        let mut out = ctx.first_hit_aovs(None, &hit);
+        out.radiance = ctx.geometry.area_lights[l as usize].emitted(hit.ng, wo);
+        return out;
+    }
     let material = &ctx.scene.materials[hit.material];
     let mut radiance = emitted(material.emission, material.double_sided, hit.ng, wo);
     let shading = ctx.shading(&hit, wo);

@@ -120,6 +120,7 @@ impl TraceContext<'_> {
     }
 
     /// Shadow ray from `s` towards a light at `distance` along `wi`: unblocked?
+    /// Triangles and analytic area lights occlude.
     pub(crate) fn visible(&self, s: &Shading, wi: Vec3, distance: f32) -> bool {
         // Stop just short of the light so the emitter itself does not occlude.
         let tmax = if distance.is_finite() {
@@ -127,7 +128,7 @@ impl TraceContext<'_> {
         } else {
             f32::INFINITY
         };
-        !self.geometry.accel.occluded(&self.spawn(s, wi, tmax))
+        !self.geometry.occluded(&self.spawn(s, wi, tmax))
     }
 
     /// AOVs of a first hit.

@@ -34,10 +34,34 @@ pub fn li(
     }
     loop {
         let Some(hit) = ctx.geometry.intersect(ctx.scene, &ray) else {
-            radiance += beta * ctx.scene.background;
+            // Environment, MIS-weighted against its NEE sampling.
+            let le = ctx.lights.environment().eval(ray.direction);
+            if le != Rgb::ZERO {
+                let weight = prev_bsdf_pdf.map_or(1.0, |bsdf_pdf| {
+                    power_heuristic(bsdf_pdf, ctx.lights.pdf_environment(ray.direction))
+                });
+                radiance += beta * le * weight;
+            }
             break;
         };
         let wo = -ray.direction;
+        if let Some(l) = hit.light {
+            // Analytic area light: a pure emitter, MIS-weighted against NEE.
+            let le = ctx.geometry.area_lights[l as usize].emitted(hit.ng, wo);
+            if le != Rgb::ZERO {
+                let weight = prev_bsdf_pdf.map_or(1.0, |bsdf_pdf| {
+                    let light_pdf =
+                        ctx.lights
+                            .pdf_area_light(ctx.geometry, l, prev_point, ray.direction);
+                    power_heuristic(bsdf_pdf, light_pdf)
+                });
+                radiance += beta * le * weight;
+            }
+            if depth == 1 {
+                out = ctx.first_hit_aovs(None, &hit);
+            }
+            break;
+        }
         let material = &ctx.scene.materials[hit.material];
         // Emission reached by this segment, MIS-weighted against NEE.
         let le = emitted(material.emission, material.double_sided, hit.ng, wo);

@@ -1,7 +1,7 @@
 //! Native TOML scene loader. The format is specified, with an example per
 //! feature, in `docs/scene-format.md`.
 //!
-//! Sections: `background`, `[camera]`, `[render]`, `[[materials]]`,
+//! Sections: `background`, `[environment]`, `[camera]`, `[render]`, `[[materials]]`,
 //! `[[lights]]`, `[[objects]]`. Unknown keys are errors. Every error names
 //! the file and either the line:column (syntax and type errors, which also
 //! name the key path) or the key path such as `objects[2].radius` (value
@@ -9,6 +9,7 @@
 
 mod camera;
 mod diag;
+mod environment;
 mod lights;
 mod materials;
 mod objects;
@@ -46,6 +47,15 @@ fn build(doc: &Doc<'_>, options: &LoadOptions, raw: &RawScene) -> Result<Scene, 
     } else {
         scene.background = Rgb::ZERO;
     }
+    if let Some(env) = &raw.environment {
+        if raw.background.is_some() {
+            return Err(doc.err(
+                "environment",
+                "give either background = ... or an [environment] table, not both",
+            ));
+        }
+        environment::environment(doc, options, env, &mut scene)?;
+    }
     if let Some(c) = &raw.camera {
         scene.camera = Some(camera::camera(doc, c)?);
     }
@@ -54,7 +64,7 @@ fn build(doc: &Doc<'_>, options: &LoadOptions, raw: &RawScene) -> Result<Scene, 
     }
     let (materials, by_name) = materials::materials(doc, &raw.materials)?;
     scene.materials = materials;
-    scene.lights = lights::lights(doc, &raw.lights)?;
+    (scene.lights, scene.area_lights) = lights::lights(doc, &raw.lights)?;
     if raw.objects.is_empty() {
         return Err(doc.whole(
             "the scene has no objects: add at least one [[objects]] table with a shape or a mesh (see docs/scene-format.md)",

@@ -16,6 +16,7 @@ use std::fmt;
 pub(super) struct RawScene {
     /// Constant background radiance.
     pub background: Option<Floats>,
+    pub environment: Option<RawEnvironment>,
     pub camera: Option<RawCamera>,
     pub render: Option<RawRender>,
     #[serde(default)]
@@ -121,6 +122,43 @@ pub(super) struct RawLight {
     pub illuminance_lux: Option<Floats>,
     pub inner_cone_deg: Option<f64>,
     pub outer_cone_deg: Option<f64>,
+    // Area lights.
+    pub center: Option<Floats>,
+    pub radius: Option<f64>,
+    pub normal: Option<Floats>,
+    pub corner: Option<Floats>,
+    pub edge1: Option<Floats>,
+    pub edge2: Option<Floats>,
+    pub radiance: Option<Floats>,
+    pub luminance_nits: Option<Floats>,
+    pub two_sided: Option<bool>,
+}
+
+/// `[environment]`: a constant radiance or an equirectangular map.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawEnvironment {
+    #[serde(rename = "type")]
+    pub kind: Option<String>,
+    pub radiance: Option<Floats>,
+    pub luminance_nits: Option<Floats>,
+    pub color: Option<Floats>,
+    pub file: Option<String>,
+    pub scale: Option<Floats>,
+    pub rotate_deg: Option<f64>,
+}
+
+impl RawEnvironment {
+    pub fn present_keys(&self) -> Vec<&'static str> {
+        present(&[
+            ("radiance", self.radiance.is_some()),
+            ("luminance_nits", self.luminance_nits.is_some()),
+            ("color", self.color.is_some()),
+            ("file", self.file.is_some()),
+            ("scale", self.scale.is_some()),
+            ("rotate_deg", self.rotate_deg.is_some()),
+        ])
+    }
 }
 
 impl RawLight {
@@ -136,6 +174,15 @@ impl RawLight {
             ("illuminance_lux", self.illuminance_lux.is_some()),
             ("inner_cone_deg", self.inner_cone_deg.is_some()),
             ("outer_cone_deg", self.outer_cone_deg.is_some()),
+            ("center", self.center.is_some()),
+            ("radius", self.radius.is_some()),
+            ("normal", self.normal.is_some()),
+            ("corner", self.corner.is_some()),
+            ("edge1", self.edge1.is_some()),
+            ("edge2", self.edge2.is_some()),
+            ("radiance", self.radiance.is_some()),
+            ("luminance_nits", self.luminance_nits.is_some()),
+            ("two_sided", self.two_sided.is_some()),
         ])
     }
 }
