@@ -107,7 +107,7 @@ impl Accel {
             return None;
         }
         let wt = WatertightRay::new(ray.origin, ray.direction);
-        let r = obvhs::ray::Ray::new(ray.origin.into(), ray.direction.into(), 0.0, ray.tmax);
+        let r = bvh_ray(ray);
         let mut hit = obvhs::ray::RayHit::none();
         let found = self.bvh.ray_traverse(r, &mut hit, |r, id| {
             let [a, b, c] = self.ordered[id];
@@ -135,7 +135,7 @@ impl Accel {
             return false;
         }
         let wt = WatertightRay::new(ray.origin, ray.direction);
-        let r = obvhs::ray::Ray::new(ray.origin.into(), ray.direction.into(), 0.0, ray.tmax);
+        let r = bvh_ray(ray);
         !self.bvh.ray_traverse_miss(r, |r, id| {
             let [a, b, c] = self.ordered[id];
             wt.intersect_a(a, b, c, r.tmax)
@@ -178,6 +178,17 @@ impl Accel {
         }
         Ok(())
     }
+}
+
+/// The ray as obvhs traverses it. Zero direction components (of either
+/// sign) become a tiny positive value: the slab test multiplies by 1/d, and
+/// 1/(−0) = −∞ times a zero distance gives NaN, which dropped axis-parallel
+/// rays such as −Vec3::Y. The triangle test still uses the exact direction.
+#[inline]
+fn bvh_ray(ray: &Ray) -> obvhs::ray::Ray {
+    let d = ray.direction;
+    let safe = Vec3::select(d.cmpeq(Vec3::ZERO), Vec3::splat(1e-30), d);
+    obvhs::ray::Ray::new(ray.origin.into(), safe.into(), 0.0, ray.tmax)
 }
 
 #[cfg(test)]
@@ -230,5 +241,39 @@ mod tests {
         let a = Accel::build(&[], BuildQuality::Fast);
         assert!(a.intersect(&Ray::new(Vec3::ZERO, Vec3::X)).is_none());
         assert!(!a.occluded(&Ray::new(Vec3::ZERO, Vec3::X)));
+    }
+}
+
+#[cfg(test)]
+mod signed_zero_tests {
+    use super::*;
+
+    /// Axis-parallel rays hit a flat quad whatever the sign of their zero
+    /// direction components (−0.0 makes 1/d = −∞ in slab tests).
+    #[test]
+    fn axis_parallel_rays_with_negative_zero_components_hit() {
+        let (a, b, c, d) = (
+            Vec3::new(-5.0, 0.0, -5.0),
+            Vec3::new(5.0, 0.0, -5.0),
+            Vec3::new(5.0, 0.0, 5.0),
+            Vec3::new(-5.0, 0.0, 5.0),
+        );
+        let accel = Accel::build(&[[a, b, c], [a, c, d]], BuildQuality::Medium);
+        for o in [
+            Vec3::new(3.0, 1.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+            Vec3::new(-2.0, 1.0, 4.0),
+        ] {
+            for dir in [
+                -Vec3::Y,
+                Vec3::new(0.0, -1.0, 0.0),
+                Vec3::new(-0.0, -1.0, 0.0),
+            ] {
+                let ray = Ray::new(o, dir);
+                let hit = accel.intersect(&ray);
+                assert!(hit.is_some_and(|h| (h.t - 1.0).abs() < 1e-6), "{o} {dir:?}");
+                assert!(accel.occluded(&ray), "{o} {dir:?}");
+            }
+        }
     }
 }

@@ -31,8 +31,8 @@ pub fn li(ctx: &TraceContext, ray: &Ray, sampler: &mut Sampler) -> PathSample {
     if let Some(s) = shading {
         let mut add = |wi: glam::Vec3, value: Rgb| {
             let wl = s.frame.to_local(wi);
-            if wl.z > 0.0 {
-                radiance += s.bsdf.eval(s.wo_local, wl) * value * wl.z;
+            if TraceContext::consistent_side(&s, wi, wl) {
+                radiance += s.bsdf.eval(s.wo_local, wl) * value * wl.z.abs();
             }
         };
         for l in &ctx.scene.lights {

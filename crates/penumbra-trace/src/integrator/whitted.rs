@@ -6,9 +6,10 @@
 //!
 //! `L(x, ωo) = Le + Σ_lights f(ωo, ωl) E_l cos θl V + Σ_delta T_k L(x_k, ω_k)`.
 //!
-//! Abstract lights are summed exactly; area lights get one light sample per
-//! hit (so Whitted images of area-lit scenes are noisy at 1 spp, as any
-//! stochastic direct-light estimate). Depth counts path segments as in
+//! Abstract lights are summed exactly; area lights and the environment get
+//! one light sample per hit (so Whitted images of area-lit scenes are noisy
+//! at 1 spp, as any stochastic direct-light estimate). A miss returns the
+//! environment's radiance. Depth counts path segments as in
 //! `path` (`max_depth` 1 = emitters only, 2 = direct light, each delta bounce
 //! one more), so both integrators agree on purely specular scenes.
 
@@ -52,16 +53,21 @@ fn trace(
         return Rgb::ZERO;
     }
     let Some(hit) = ctx.geometry.intersect(ctx.scene, ray) else {
-        return ctx.scene.background;
+        return ctx.lights.environment().eval(ray.direction);
     };
     let wo = -ray.direction;
+    if let Some(l) = hit.light {
+        // Analytic area light: a pure emitter.
+        if let Some(f) = first.take() {
+            *f.out = ctx.first_hit_aovs(None, &hit);
+        }
+        return ctx.geometry.area_lights[l as usize].emitted(hit.ng, wo);
+    }
     let material = &ctx.scene.materials[hit.material];
     let mut radiance = emitted(material.emission, material.double_sided, hit.ng, wo);
     let shading = ctx.shading(&hit, wo);
     if let Some(f) = first.take() {
-        let radiance_so_far = f.out.radiance;
         *f.out = ctx.first_hit_aovs(shading.as_ref(), &hit);
-        f.out.radiance = radiance_so_far;
     }
     let Some(s) = shading else {
         return radiance;
@@ -83,7 +89,8 @@ fn trace(
     radiance
 }
 
-/// Σ over abstract lights (exact) + one area-light sample, with shadow rays.
+/// Σ over abstract lights (exact) + one sample of the area lights and the
+/// environment, with shadow rays.
 fn direct_light(ctx: &TraceContext, s: &Shading, sampler: &mut Sampler) -> Rgb {
     let mut sum = Rgb::ZERO;
     let mut add = |wi: glam::Vec3, distance: f32, value: Rgb| {
