@@ -4,30 +4,10 @@ mod common;
 
 use common::*;
 use glam::{Mat4, Vec3};
-use penumbra_scene::{
-    Camera, IntegratorKind, Material, Projection, RenderSettings, Scene, SceneLight,
-};
+use penumbra_scene::{Camera, IntegratorKind, Material, Projection, Scene, SceneLight};
 use penumbra_shading::Rgb;
 use penumbra_shading::light::{Light, PointLight};
 use penumbra_trace::{RenderOptions, render};
-
-fn settings(
-    integrator: IntegratorKind,
-    w: u32,
-    h: u32,
-    spp: u32,
-    max_depth: u32,
-) -> RenderSettings {
-    RenderSettings {
-        width: w,
-        height: h,
-        spp,
-        max_depth,
-        integrator,
-        seed: 3,
-        ao_distance: f32::INFINITY,
-    }
-}
 
 /// Furnace: inside a closed surface of albedo ρ that also emits Le
 /// everywhere, radiance is Le (1 + ρ + ρ² + …) = Le / (1 − ρ).

@@ -115,27 +115,26 @@ fn quiz_4_phong_blinn_is_2_5() {
     }
 }
 
-/// Quiz 1: a smooth dielectric of n = 1.4 seen at normal incidence reflects
-/// F0 = 2.78 % of an emitter behind the camera (glass n = 1.5: 4 %).
-#[test]
-fn quiz_1_normal_incidence_reflectance() {
-    for (ior, f0) in [(1.4f32, 0.027_78f32), (1.5, 0.04)] {
-        let text = format!(
-            r#"
+/// A smooth dielectric interface y = 0 (front +y, the medium below) of index
+/// `ior`, under an emitter of radiance 1 facing down at y = 5 (black
+/// elsewhere), seen by an orthographic camera at `eye` looking at the origin.
+fn interface_scene(ior: f32, eye: [f32; 3], view_height: f32, spp: u32) -> String {
+    format!(
+        r#"
 [camera]
 type = "orthographic"
-position = [0, 2, 0]
+position = [{x}, {y}, {z}]
 look_at = [0, 0, 0]
 up = [0, 0, -1]
-height = 1
+height = {view_height}
 
 [render]
 resolution = [4, 4]
-spp = 4
+spp = {spp}
 max_depth = 4
 
 [[materials]]
-name = "glass"
+name = "dielectric"
 type = "dielectric"
 ior = {ior}
 
@@ -144,7 +143,7 @@ shape = "quad"
 corner = [-5, 0, 5]
 edge1 = [10, 0, 0]
 edge2 = [0, 0, -10]
-material = "glass"
+material = "dielectric"
 
 [[lights]]
 type = "quad"
@@ -152,8 +151,19 @@ corner = [-50, 5, -50]
 edge1 = [100, 0, 0]
 edge2 = [0, 0, 100]
 radiance = 1
-"#
-        );
+"#,
+        x = eye[0],
+        y = eye[1],
+        z = eye[2],
+    )
+}
+
+/// Quiz 1: a smooth dielectric of n = 1.4 seen at normal incidence reflects
+/// F0 = 2.78 % of an emitter behind the camera (glass n = 1.5: 4 %).
+#[test]
+fn quiz_1_normal_incidence_reflectance() {
+    for (ior, f0) in [(1.4f32, 0.027_78f32), (1.5, 0.04)] {
+        let text = interface_scene(ior, [0.0, 2.0, 0.0], 1.0, 4);
         assert_all_near(
             &render_toml(&text, IntegratorKind::Whitted),
             f0,
@@ -171,42 +181,7 @@ radiance = 1
 fn quiz_3_total_internal_reflection_from_5_74_degrees() {
     for deg in [5.5f32, 5.7, 5.78, 6.0, 20.0] {
         let t = deg.to_radians();
-        let text = format!(
-            r#"
-[camera]
-type = "orthographic"
-position = [{x}, {y}, 0]
-look_at = [0, 0, 0]
-up = [0, 0, -1]
-height = 0.1
-
-[render]
-resolution = [2, 2]
-spp = 1
-max_depth = 4
-
-[[materials]]
-name = "dense"
-type = "dielectric"
-ior = 10
-
-[[objects]]
-shape = "quad"
-corner = [-5, 0, 5]
-edge1 = [10, 0, 0]
-edge2 = [0, 0, -10]
-material = "dense"
-
-[[lights]]
-type = "quad"
-corner = [-50, 5, -50]
-edge1 = [100, 0, 0]
-edge2 = [0, 0, 100]
-radiance = 1
-"#,
-            x = -t.sin(),
-            y = -t.cos(),
-        );
+        let text = interface_scene(10.0, [-t.sin(), -t.cos(), 0.0], 0.1, 1);
         let pixels = render_toml(&text, IntegratorKind::Whitted);
         if deg < 5.74 {
             // Light entering the dense medium: (1 − F) · (10/1)² · Le.

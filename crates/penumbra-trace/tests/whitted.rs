@@ -5,32 +5,12 @@ mod common;
 
 use common::*;
 use glam::{Mat4, Vec3};
-use penumbra_scene::{
-    Camera, IntegratorKind, Material, Projection, RenderSettings, Scene, SceneLight, primitives,
-};
+use penumbra_scene::{Camera, IntegratorKind, Material, Projection, Scene, SceneLight, primitives};
 use penumbra_shading::Rgb;
 use penumbra_shading::bsdf::optics::fresnel_conductor;
 use penumbra_shading::bsdf::{Bsdf, Conductor, Dielectric, FresnelModel, Mirror};
 use penumbra_shading::light::{Light, PointLight};
 use penumbra_trace::{RenderOptions, render};
-
-fn settings(
-    integrator: IntegratorKind,
-    w: u32,
-    h: u32,
-    spp: u32,
-    max_depth: u32,
-) -> RenderSettings {
-    RenderSettings {
-        width: w,
-        height: h,
-        spp,
-        max_depth,
-        integrator,
-        seed: 5,
-        ao_distance: f32::INFINITY,
-    }
-}
 
 fn with_bsdf(name: &str, bsdf: Bsdf) -> Material {
     Material {

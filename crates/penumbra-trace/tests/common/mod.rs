@@ -2,7 +2,7 @@
 #![allow(dead_code)]
 
 use glam::{Mat4, Vec3};
-use penumbra_scene::{Camera, Material, Mesh, Projection, Scene};
+use penumbra_scene::{Camera, IntegratorKind, Material, Mesh, Projection, RenderSettings, Scene};
 use penumbra_shading::Rgb;
 
 /// `primitives::quad` (front normal e1 × e2) with a material.
@@ -30,4 +30,23 @@ pub fn top_down_camera(target: Vec3, h: f32) -> Camera {
 
 pub fn lambert(scene: &mut Scene, albedo: f32) -> usize {
     scene.add_material(Material::lambert("m", Rgb::splat(albedo)))
+}
+
+/// Render settings for a test: `w`×`h`, `spp`, `max_depth`, fixed seed 3.
+pub fn settings(
+    integrator: IntegratorKind,
+    w: u32,
+    h: u32,
+    spp: u32,
+    max_depth: u32,
+) -> RenderSettings {
+    RenderSettings {
+        width: w,
+        height: h,
+        spp,
+        max_depth,
+        integrator,
+        seed: 3,
+        ao_distance: f32::INFINITY,
+    }
 }
