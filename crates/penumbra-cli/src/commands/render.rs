@@ -20,7 +20,7 @@ pub struct RenderArgs {
     /// Output image: .png (tone-mapped sRGB) or .exr (linear float RGB).
     #[arg(short, long, default_value = "penumbra.png")]
     pub output: PathBuf,
-    /// local | direct | path | ao (default: the scene's, else path).
+    /// local | direct | whitted | path | ao (default: the scene's, else path).
     #[arg(long, value_parser = |s: &str| s.parse::<IntegratorKind>())]
     pub integrator: Option<IntegratorKind>,
     /// Samples per pixel.
