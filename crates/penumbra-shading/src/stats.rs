@@ -142,8 +142,10 @@ pub fn chi_square_sphere(
             for i in 0..=m {
                 // Edge points sit a hair inside the bin: densities that are
                 // discontinuous at a bin edge (e.g. zero below the horizon)
-                // must be evaluated on this bin's side.
-                let z = -1.0 + dz * (t as f64 + inside(i));
+                // must be evaluated on this bin's side. The poles stay exact:
+                // lat-long densities carry 1/sin θ there.
+                let pole = (t == 0 && i == 0) || (t == nt - 1 && i == m);
+                let z = -1.0 + dz * (t as f64 + if pole { i as f64 / m as f64 } else { inside(i) });
                 let r = (1.0 - z * z).max(0.0).sqrt();
                 for j in 0..=m {
                     let phi = dphi * (p as f64 + inside(j));
