@@ -39,7 +39,16 @@ pub fn run(args: InfoArgs) -> Result<()> {
     let radius = scene
         .bounds()
         .map_or(1.0, |(lo, hi)| 0.5 * (hi - lo).length());
-    println!("lights:     {}", scene.lights.len());
+    println!(
+        "lights:     {} abstract, {} analytic area{}",
+        scene.lights.len(),
+        scene.area_lights.len(),
+        if scene.environment().is_black() {
+            ""
+        } else {
+            ", environment"
+        }
+    );
     for l in &scene.lights {
         let p = l.light.power(radius);
         let what = match &l.light {
