@@ -226,3 +226,67 @@ pub fn gpu_structs() -> Vec<HostLayout> {
         ),
     ]
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use penumbra_shading::bsdf::{Lambert, MetallicRoughness, PhongBlinn};
+    use penumbra_shading::light::{DirectionalLight, SpotLight};
+
+    #[test]
+    fn materials_keep_the_rust_coefficients() {
+        let rho = Vec3::new(0.8, 0.4, 0.2);
+        let (m, exact) =
+            GpuMaterial::from_bsdf(&Bsdf::Lambert(Lambert::new(rho)), Vec3::ZERO, true);
+        assert!(exact && m.model == MODEL_LAMBERT && m.double_sided == 1);
+        assert_eq!(Vec3::from(m.kd), Lambert::new(rho).kd());
+
+        let p = PhongBlinn::from_albedo(rho, Vec3::splat(0.3), 17.0, PhongVariant::HalfwaySquared);
+        let (m, exact) = GpuMaterial::from_bsdf(&Bsdf::PhongBlinn(p), Vec3::X, false);
+        assert!(exact && m.model == MODEL_PHONG_BLINN && m.double_sided == 0);
+        assert_eq!((m.variant, m.shininess), (2, 17.0));
+        assert_eq!((Vec3::from(m.kd), Vec3::from(m.ks)), (p.kd, p.ks));
+        assert_eq!(Vec3::from(m.emission), Vec3::X);
+
+        // No twin yet: Lambert with the model's albedo, reported as inexact.
+        let mr = Bsdf::MetallicRoughness(MetallicRoughness::new(rho, 0.0, 0.5));
+        let (m, exact) = GpuMaterial::from_bsdf(&mr, Vec3::ZERO, true);
+        assert!(!exact && m.model == MODEL_LAMBERT);
+        let expect = mr.albedo() * std::f32::consts::FRAC_1_PI;
+        assert!((Vec3::from(m.kd) - expect).abs().max_element() < 1e-7);
+    }
+
+    #[test]
+    fn lights_use_the_homogeneous_form() {
+        let d = DirectionalLight {
+            direction: Vec3::new(0.0, -2.0, 0.0),
+            irradiance: Vec3::splat(3.0),
+        };
+        let g = GpuLight::from_light(&Light::Directional(d));
+        assert_eq!(g.kind, LIGHT_DIRECTIONAL);
+        assert_eq!(g.position, [0.0, 1.0, 0.0, 0.0]);
+        let s = SpotLight {
+            position: Vec3::new(1.0, 2.0, 3.0),
+            direction: Vec3::NEG_Y,
+            intensity: Vec3::ONE,
+            cos_inner: 0.9,
+            cos_outer: 0.8,
+        };
+        let g = GpuLight::from_light(&Light::Spot(s));
+        assert_eq!(g.kind, LIGHT_SPOT);
+        assert_eq!(g.position, [1.0, 2.0, 3.0, 1.0]);
+        assert_eq!(
+            (g.spot_direction, g.cos_inner, g.cos_outer),
+            ([0.0, -1.0, 0.0], 0.9, 0.8)
+        );
+    }
+
+    #[test]
+    fn mirroring_instances_flip_the_winding() {
+        let m = Mat4::from_scale(Vec3::new(-1.0, 1.0, 1.0));
+        let i = GpuInstance::new(m, Mat3::from_mat4(m).inverse().transpose(), 3, true);
+        assert_eq!((i.flip_winding, i.material, i.has_normals), (1, 3, 1));
+        let i = GpuInstance::new(Mat4::IDENTITY, Mat3::IDENTITY, 0, false);
+        assert_eq!((i.flip_winding, i.has_normals), (0, 0));
+    }
+}

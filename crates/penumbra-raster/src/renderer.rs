@@ -641,3 +641,44 @@ pub fn render_scene(
     let out = renderer.render(&ctx, scene, camera, width, height)?;
     Ok((out, ctx.summary.clone()))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use penumbra_scene::{Material, SceneAreaLight, primitives};
+    use penumbra_shading::bsdf::{Bsdf, Mirror};
+    use penumbra_shading::light::{AreaLight, Shape};
+
+    #[test]
+    fn scene_data_warns_about_what_it_approximates() {
+        let mut scene = Scene::default();
+        let lambert = scene.add_material(Material::lambert("white", Vec3::ONE));
+        let mut mesh = primitives::sphere(Vec3::ZERO, 1.0, 4);
+        mesh.material = lambert;
+        scene.add_mesh(mesh, Mat4::IDENTITY);
+        let data = SceneData::from_scene(&scene);
+        assert!(data.warnings.is_empty(), "{:?}", data.warnings);
+        assert_eq!((data.instances.len(), data.materials.len()), (1, 1));
+
+        scene.add_material(Material {
+            bsdf: Bsdf::Mirror(Mirror::new(Vec3::ONE)),
+            ..Material::lambert("chrome", Vec3::ONE)
+        });
+        scene.add_material(Material::emitter("lamp", Vec3::splat(5.0)));
+        scene.area_lights.push(SceneAreaLight {
+            name: "ball".into(),
+            light: AreaLight {
+                shape: Shape::Sphere {
+                    center: Vec3::Y,
+                    radius: 0.1,
+                },
+                radiance: Vec3::ONE,
+                two_sided: false,
+            },
+        });
+        let w = SceneData::from_scene(&scene).warnings.join("\n");
+        assert!(w.contains("'chrome' (mirror)"), "{w}");
+        assert!(w.contains("area light"), "{w}");
+        assert!(w.contains("emissive"), "{w}");
+    }
+}
