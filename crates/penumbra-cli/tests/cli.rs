@@ -68,6 +68,16 @@ fn bad_arguments_fail_without_output() {
             "unknown scene format",
         ),
         (&["info", "no-such-scene.obj"], "no-such-scene.obj"),
+        (&["info"], "--gpu"),
+        (
+            &["render", "--engine", "raster", "--msaa", "2", "-o", "a.png"],
+            "MSAA",
+        ),
+        (&["render", "--msaa", "4", "-o", "a.png"], "--engine raster"),
+        (
+            &["render", "--engine", "raster", "--aovs", "-o", "a.exr"],
+            "--aovs",
+        ),
         (&["compare", "no-ref.exr", "no-test.exr"], "no-ref.exr"),
     ];
     for (args, expected) in cases {
@@ -202,4 +212,72 @@ fn bench_json_lines() {
         out.lines().filter(|l| l.contains("mrays_per_s")).count() == 2,
         "{out}"
     );
+}
+
+/// `--engine raster` (GPU; fails without an adapter unless PENUMBRA_SKIP_GPU=1):
+/// `info --gpu` names the adapter, the raster image has the CPU film's size
+/// and files, and `compare` against the CPU `local` integrator works.
+#[test]
+fn raster_engine_round_trip() {
+    if std::env::var("PENUMBRA_SKIP_GPU").is_ok_and(|v| v == "1") {
+        eprintln!("note: raster_engine_round_trip skipped because PENUMBRA_SKIP_GPU=1");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let o = penumbra(&["info", "--gpu"], d);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        o.status.success() && out.contains("backend:") && out.contains("driver:"),
+        "{out}{}",
+        stderr(&o)
+    );
+    let scene = reference("spheres-direct", "spheres-direct.gltf");
+    let res = ["--resolution", "96x96"];
+    let o = penumbra(
+        &[
+            &[
+                "render", &scene, "--engine", "raster", "--msaa", "4", "-o", "r.exr",
+            ],
+            &res[..],
+        ]
+        .concat(),
+        d,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("raster 96x96"), "{}", stderr(&o));
+    let o = penumbra(
+        &[
+            &["render", &scene, "--engine", "raster", "-o", "r.png"],
+            &res[..],
+        ]
+        .concat(),
+        d,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = penumbra(
+        &[
+            &[
+                "render",
+                &scene,
+                "--integrator",
+                "local",
+                "--spp",
+                "16",
+                "-o",
+                "c.exr",
+            ],
+            &res[..],
+        ]
+        .concat(),
+        d,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = penumbra(&["compare", "c.exr", "r.exr", "--json"], d);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout).into_owned();
+    let v: serde_json::Value = serde_json::from_str(out.trim()).expect("json");
+    let flip = v["flip"].as_f64().expect("flip");
+    assert!(flip <= 0.02, "raster vs local: FLIP {flip}");
+    assert!(d.join("r.png").exists());
 }

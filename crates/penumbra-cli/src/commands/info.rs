@@ -1,7 +1,7 @@
 //! `penumbra info`.
 
 use crate::options::load_scene;
-use anyhow::Result;
+use anyhow::{Result, bail};
 use clap::Args;
 use penumbra_shading::light::Light;
 use std::path::PathBuf;
@@ -9,12 +9,52 @@ use std::path::PathBuf;
 #[derive(Args, Debug)]
 pub struct InfoArgs {
     /// Scene file (.gltf, .glb, .obj, .toml).
-    pub scene: PathBuf,
+    pub scene: Option<PathBuf>,
+    /// Print the GPU adapter the raster engine uses (name, backend, type, driver).
+    #[arg(long)]
+    pub gpu: bool,
 }
 
 pub fn run(args: InfoArgs) -> Result<()> {
-    let scene = load_scene(&args.scene)?;
-    println!("scene:      {}", args.scene.display());
+    if args.gpu {
+        print_gpu()?;
+    }
+    match &args.scene {
+        Some(path) => print_scene(path),
+        None if args.gpu => Ok(()),
+        None => bail!("give a SCENE file, or --gpu for the GPU adapter"),
+    }
+}
+
+/// The adapter `penumbra render --engine raster` picks.
+fn print_gpu() -> Result<()> {
+    let ctx = penumbra_raster::GpuContext::new()?;
+    let a = &ctx.summary;
+    println!("gpu:        {}", a.name);
+    println!("  backend:  {}", a.backend);
+    println!("  type:     {}", a.device_type);
+    println!("  driver:   {} ({})", a.driver, a.driver_info);
+    println!("  vendor:   {:#06x}, device {:#06x}", a.vendor, a.device);
+    let f = ctx.device.features();
+    println!(
+        "  features: timestamp queries {}, adapter-specific formats {}",
+        if f.contains(penumbra_raster::wgpu::Features::TIMESTAMP_QUERY) {
+            "yes"
+        } else {
+            "no"
+        },
+        if f.contains(penumbra_raster::wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES) {
+            "yes"
+        } else {
+            "no"
+        }
+    );
+    Ok(())
+}
+
+fn print_scene(path: &std::path::Path) -> Result<()> {
+    let scene = load_scene(path)?;
+    println!("scene:      {}", path.display());
     println!("meshes:     {}", scene.meshes.len());
     println!("instances:  {}", scene.instances.len());
     println!("triangles:  {}", scene.triangle_count());

@@ -3,12 +3,13 @@
 use crate::options::{
     check_image_memory, load_scene, parse_positive, parse_resolution, parse_seconds, thread_pool,
 };
-use anyhow::{Context, Result};
+use anyhow::{Context, Result, bail};
 use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use penumbra_image::{ToneMapping, ToneOperator, check_output_path, write_image};
-use penumbra_scene::IntegratorKind;
-use penumbra_trace::{Progress, RenderOptions, render};
+use penumbra_raster::RasterOptions;
+use penumbra_scene::{IntegratorKind, RenderSettings, Scene};
+use penumbra_trace::{Progress, RenderOptions, render, scene_camera};
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::time::Duration;
@@ -53,6 +54,30 @@ pub struct RenderArgs {
     /// Tone-mapping operator for PNG output.
     #[arg(long, value_enum, default_value_t = ToneArg::Filmic)]
     pub tonemap: ToneArg,
+    /// trace: the CPU ray tracer; raster: the GPU forward renderer (wgpu),
+    /// per-pixel shading of the abstract lights without shadows (the model
+    /// of `--integrator local`).
+    #[arg(long, value_enum, default_value_t = Engine::Trace)]
+    pub engine: Engine,
+    /// Raster engine: samples per pixel of the colour and depth targets (1 or 4).
+    #[arg(long, default_value_t = 1, value_parser = parse_msaa)]
+    pub msaa: u32,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Engine {
+    Trace,
+    Raster,
+}
+
+fn parse_msaa(s: &str) -> Result<u32, String> {
+    match s.trim() {
+        "1" => Ok(1),
+        "4" => Ok(4),
+        _ => Err(format!(
+            "'{s}' is not a supported MSAA sample count (1 or 4)"
+        )),
+    }
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -98,6 +123,20 @@ pub fn run(args: RenderArgs) -> Result<()> {
         if args.aovs { 160 } else { 80 },
     )?;
 
+    let tm = ToneMapping {
+        exposure_ev: args.exposure,
+        operator: match args.tonemap {
+            ToneArg::Filmic => ToneOperator::Filmic,
+            ToneArg::Clamp => ToneOperator::Clamp,
+        },
+    };
+    if args.engine == Engine::Raster {
+        return render_raster(&args, &scene, &settings, &tm);
+    }
+    if args.msaa != 1 {
+        bail!("--msaa applies to --engine raster only");
+    }
+
     let bar = std::io::stderr().is_terminal().then(|| {
         let total = settings.width as u64 * settings.height as u64 * settings.spp as u64;
         let pb = ProgressBar::new(total);
@@ -123,13 +162,6 @@ pub fn run(args: RenderArgs) -> Result<()> {
     if let Some(b) = &bar {
         b.finish_and_clear();
     }
-    let tm = ToneMapping {
-        exposure_ev: args.exposure,
-        operator: match args.tonemap {
-            ToneArg::Filmic => ToneOperator::Filmic,
-            ToneArg::Clamp => ToneOperator::Clamp,
-        },
-    };
     let aovs: Vec<(&str, &penumbra_image::Image)> =
         out.aovs.iter().map(|(n, i)| (n.as_str(), i)).collect();
     write_image(&args.output, &out.image, &aovs, &tm)
@@ -147,6 +179,51 @@ pub fn run(args: RenderArgs) -> Result<()> {
         },
         out.render_seconds,
         out.build_seconds,
+        args.output.display()
+    );
+    Ok(())
+}
+
+/// `--engine raster`: the scene's camera and film size, the same output
+/// files and tone mapping as the CPU path.
+fn render_raster(
+    args: &RenderArgs,
+    scene: &Scene,
+    settings: &RenderSettings,
+    tm: &ToneMapping,
+) -> Result<()> {
+    if args.aovs {
+        bail!("--aovs is not available with --engine raster yet");
+    }
+    if args.integrator.is_some_and(|i| i != IntegratorKind::Local) {
+        eprintln!(
+            "penumbra: warning: --engine raster shades like --integrator local (direct light from the abstract lights, no shadows); --integrator is ignored"
+        );
+    }
+    let camera = scene_camera(scene);
+    let (out, adapter) = penumbra_raster::render_scene(
+        scene,
+        &camera,
+        settings.width,
+        settings.height,
+        RasterOptions { msaa: args.msaa },
+    )?;
+    for w in &out.warnings {
+        eprintln!("penumbra: warning: {w}");
+    }
+    write_image(&args.output, &out.image, &[], tm)
+        .with_context(|| format!("writing {}", args.output.display()))?;
+    let gpu = out
+        .gpu_pass_ms
+        .map_or(String::new(), |ms| format!(", forward pass {ms:.2} ms GPU"));
+    eprintln!(
+        "penumbra: raster {}x{} MSAA {} on {} in {:.1} ms (frame {:.1} ms{gpu}) -> {}",
+        settings.width,
+        settings.height,
+        args.msaa,
+        adapter,
+        out.total_ms,
+        out.frame_ms,
         args.output.display()
     );
     Ok(())

@@ -1,0 +1,292 @@
+//! `#[repr(C)]` structs shared with the WGSL shaders, their conversion from
+//! the scene model, and a description of their layouts ([`GPU_STRUCTS`]) that
+//! the tests compare with the WGSL structs as naga lays them out.
+
+use bytemuck::{Pod, Zeroable};
+use glam::{Mat3, Mat4, Vec3};
+use penumbra_shading::bsdf::{Bsdf, PhongVariant};
+use penumbra_shading::light::Light;
+use std::mem::{offset_of, size_of};
+
+/// Light kinds (`GpuLight::kind`), as the WGSL constants `LIGHT_*`.
+pub const LIGHT_POINT: u32 = 0;
+pub const LIGHT_DIRECTIONAL: u32 = 1;
+pub const LIGHT_SPOT: u32 = 2;
+
+/// Material models (`GpuMaterial::model`), as the WGSL constants `MODEL_*`.
+pub const MODEL_LAMBERT: u32 = 0;
+pub const MODEL_PHONG_BLINN: u32 = 1;
+
+/// An abstract light in the notes' homogeneous form (WGSL `GpuLight`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuLight {
+    /// (y, w): w = 1 position of a point or spot light, w = 0 unit direction
+    /// towards a directional light.
+    pub position: [f32; 4],
+    /// M: intensity [W/sr] (w = 1) or irradiance [W/m²] (w = 0).
+    pub m: [f32; 3],
+    pub kind: u32,
+    /// Spot lights: unit direction of travel on the axis.
+    pub spot_direction: [f32; 3],
+    pub cos_inner: f32,
+    pub cos_outer: f32,
+    pub _pad0: f32,
+    pub _pad1: f32,
+    pub _pad2: f32,
+}
+
+impl GpuLight {
+    /// The GPU form of a scene light, through the Rust light's own
+    /// homogeneous form (so the directional normalisation is the same).
+    pub fn from_light(light: &Light) -> Self {
+        let h = light.homogeneous();
+        let mut out = Self {
+            position: h.position.to_array(),
+            m: h.m.to_array(),
+            ..Self::default()
+        };
+        match light {
+            Light::Point(_) => out.kind = LIGHT_POINT,
+            Light::Directional(_) => out.kind = LIGHT_DIRECTIONAL,
+            Light::Spot(s) => {
+                out.kind = LIGHT_SPOT;
+                out.spot_direction = s.direction.to_array();
+                out.cos_inner = s.cos_inner;
+                out.cos_outer = s.cos_outer;
+            }
+        }
+        out
+    }
+}
+
+/// A material as the raster path shades it (WGSL `GpuMaterial`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuMaterial {
+    pub model: u32,
+    pub variant: u32,
+    pub shininess: f32,
+    pub double_sided: u32,
+    /// Diffuse coefficient kd = ρ/π [1/sr].
+    pub kd: [f32; 3],
+    pub _pad0: f32,
+    pub ks: [f32; 3],
+    pub _pad1: f32,
+    pub emission: [f32; 3],
+    pub _pad2: f32,
+}
+
+/// WGSL index of a Phong–Blinn variant (`PHONG_*`).
+pub fn phong_variant_index(v: PhongVariant) -> u32 {
+    match v {
+        PhongVariant::Notes => 0,
+        PhongVariant::MaxBlinn => 1,
+        PhongVariant::HalfwaySquared => 2,
+        PhongVariant::Normalized => 3,
+    }
+}
+
+impl GpuMaterial {
+    /// The BRDF the raster path evaluates for `bsdf`, and whether it is exact.
+    /// Lambert and Phong–Blinn have WGSL twins; every other model is shaded
+    /// as Lambert with the model's directional albedo `albedo()` (an
+    /// approximation: no specular highlight, no delta lobes).
+    pub fn from_bsdf(bsdf: &Bsdf, emission: Vec3, double_sided: bool) -> (Self, bool) {
+        let mut m = Self {
+            emission: emission.to_array(),
+            double_sided: double_sided as u32,
+            ..Self::default()
+        };
+        let exact = match bsdf {
+            Bsdf::Lambert(l) => {
+                m.model = MODEL_LAMBERT;
+                m.kd = l.kd().to_array();
+                true
+            }
+            Bsdf::PhongBlinn(p) => {
+                m.model = MODEL_PHONG_BLINN;
+                m.variant = phong_variant_index(p.variant);
+                m.kd = p.kd.to_array();
+                m.ks = p.ks.to_array();
+                m.shininess = p.shininess;
+                true
+            }
+            other => {
+                m.model = MODEL_LAMBERT;
+                m.kd = (other.albedo() * std::f32::consts::FRAC_1_PI).to_array();
+                false
+            }
+        };
+        (m, exact)
+    }
+}
+
+/// Camera and frame constants (WGSL `GpuCamera`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuCamera {
+    pub view_proj: [[f32; 4]; 4],
+    pub eye: [f32; 4],
+    /// Camera +z in world space; w = 1 for orthographic cameras.
+    pub back: [f32; 4],
+    pub light_count: u32,
+    pub _pad0: u32,
+    pub _pad1: u32,
+    pub _pad2: u32,
+}
+
+/// Per-instance data (WGSL `GpuInstance`), indexed by `instance_index`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuInstance {
+    pub model: [[f32; 4]; 4],
+    pub normal: [[f32; 4]; 4],
+    pub material: u32,
+    pub has_normals: u32,
+    pub flip_winding: u32,
+    pub _pad0: u32,
+}
+
+impl GpuInstance {
+    pub fn new(transform: Mat4, normal_matrix: Mat3, material: u32, has_normals: bool) -> Self {
+        Self {
+            model: transform.to_cols_array_2d(),
+            normal: Mat4::from_mat3(normal_matrix).to_cols_array_2d(),
+            material,
+            has_normals: has_normals as u32,
+            flip_winding: (Mat3::from_mat4(transform).determinant() < 0.0) as u32,
+            _pad0: 0,
+        }
+    }
+}
+
+/// Host layout of one `#[repr(C)]` GPU struct: its WGSL name, size and
+/// (field name, offset) pairs, from `size_of` and `offset_of!`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct HostLayout {
+    pub wgsl_name: &'static str,
+    pub size: usize,
+    pub fields: Vec<(&'static str, usize)>,
+}
+
+macro_rules! host_layout {
+    ($ty:ty, $name:literal, [$($field:ident),* $(,)?]) => {
+        HostLayout {
+            wgsl_name: $name,
+            size: size_of::<$ty>(),
+            fields: vec![$((stringify!($field), offset_of!($ty, $field))),*],
+        }
+    };
+}
+
+/// Every struct the host uploads, as the shaders name them.
+pub fn gpu_structs() -> Vec<HostLayout> {
+    vec![
+        host_layout!(
+            GpuLight,
+            "GpuLight",
+            [
+                position,
+                m,
+                kind,
+                spot_direction,
+                cos_inner,
+                cos_outer,
+                _pad0,
+                _pad1,
+                _pad2
+            ]
+        ),
+        host_layout!(
+            GpuMaterial,
+            "GpuMaterial",
+            [
+                model,
+                variant,
+                shininess,
+                double_sided,
+                kd,
+                _pad0,
+                ks,
+                _pad1,
+                emission,
+                _pad2
+            ]
+        ),
+        host_layout!(
+            GpuCamera,
+            "GpuCamera",
+            [view_proj, eye, back, light_count, _pad0, _pad1, _pad2]
+        ),
+        host_layout!(
+            GpuInstance,
+            "GpuInstance",
+            [model, normal, material, has_normals, flip_winding, _pad0]
+        ),
+    ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use penumbra_shading::bsdf::{Lambert, MetallicRoughness, PhongBlinn};
+    use penumbra_shading::light::{DirectionalLight, SpotLight};
+
+    #[test]
+    fn materials_keep_the_rust_coefficients() {
+        let rho = Vec3::new(0.8, 0.4, 0.2);
+        let (m, exact) =
+            GpuMaterial::from_bsdf(&Bsdf::Lambert(Lambert::new(rho)), Vec3::ZERO, true);
+        assert!(exact && m.model == MODEL_LAMBERT && m.double_sided == 1);
+        assert_eq!(Vec3::from(m.kd), Lambert::new(rho).kd());
+
+        let p = PhongBlinn::from_albedo(rho, Vec3::splat(0.3), 17.0, PhongVariant::HalfwaySquared);
+        let (m, exact) = GpuMaterial::from_bsdf(&Bsdf::PhongBlinn(p), Vec3::X, false);
+        assert!(exact && m.model == MODEL_PHONG_BLINN && m.double_sided == 0);
+        assert_eq!((m.variant, m.shininess), (2, 17.0));
+        assert_eq!((Vec3::from(m.kd), Vec3::from(m.ks)), (p.kd, p.ks));
+        assert_eq!(Vec3::from(m.emission), Vec3::X);
+
+        // No twin yet: Lambert with the model's albedo, reported as inexact.
+        let mr = Bsdf::MetallicRoughness(MetallicRoughness::new(rho, 0.0, 0.5));
+        let (m, exact) = GpuMaterial::from_bsdf(&mr, Vec3::ZERO, true);
+        assert!(!exact && m.model == MODEL_LAMBERT);
+        let expect = mr.albedo() * std::f32::consts::FRAC_1_PI;
+        assert!((Vec3::from(m.kd) - expect).abs().max_element() < 1e-7);
+    }
+
+    #[test]
+    fn lights_use_the_homogeneous_form() {
+        let d = DirectionalLight {
+            direction: Vec3::new(0.0, -2.0, 0.0),
+            irradiance: Vec3::splat(3.0),
+        };
+        let g = GpuLight::from_light(&Light::Directional(d));
+        assert_eq!(g.kind, LIGHT_DIRECTIONAL);
+        assert_eq!(g.position, [0.0, 1.0, 0.0, 0.0]);
+        let s = SpotLight {
+            position: Vec3::new(1.0, 2.0, 3.0),
+            direction: Vec3::NEG_Y,
+            intensity: Vec3::ONE,
+            cos_inner: 0.9,
+            cos_outer: 0.8,
+        };
+        let g = GpuLight::from_light(&Light::Spot(s));
+        assert_eq!(g.kind, LIGHT_SPOT);
+        assert_eq!(g.position, [1.0, 2.0, 3.0, 1.0]);
+        assert_eq!(
+            (g.spot_direction, g.cos_inner, g.cos_outer),
+            ([0.0, -1.0, 0.0], 0.9, 0.8)
+        );
+    }
+
+    #[test]
+    fn mirroring_instances_flip_the_winding() {
+        let m = Mat4::from_scale(Vec3::new(-1.0, 1.0, 1.0));
+        let i = GpuInstance::new(m, Mat3::from_mat4(m).inverse().transpose(), 3, true);
+        assert_eq!((i.flip_winding, i.material, i.has_normals), (1, 3, 1));
+        let i = GpuInstance::new(Mat4::IDENTITY, Mat3::IDENTITY, 0, false);
+        assert_eq!((i.flip_winding, i.has_normals), (0, 0));
+    }
+}

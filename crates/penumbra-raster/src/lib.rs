@@ -1,0 +1,23 @@
+//! penumbra's real-time pipeline on the GPU (wgpu): a headless forward
+//! renderer that shades every pixel with the sum over the scene's abstract
+//! lights (point, directional, spot) of f · E⊥ · cos θ, with WGSL twins of
+//! the Rust BRDFs (Lambert, Phong–Blinn) and lights, without shadows: the
+//! model of the CPU `local` integrator.
+//!
+//! [`GpuContext::new`] picks a hardware adapter if there is one, else any
+//! adapter such as Mesa's lavapipe (software Vulkan); [`ForwardRenderer`]
+//! draws a scene into an `Rgba32Float` target and reads it back as a
+//! [`penumbra_image::Image`].
+
+pub mod context;
+pub mod gpu;
+pub mod renderer;
+pub mod shaders;
+
+pub use wgpu;
+
+pub use context::{AdapterSummary, GpuContext, GpuError, SOFTWARE_VULKAN_PACKAGES};
+pub use renderer::{
+    ForwardRenderer, RasterOptions, RasterOutput, SceneData, gpu_camera, map_read, render_scene,
+    view_projection,
+};

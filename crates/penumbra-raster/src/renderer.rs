@@ -1,0 +1,684 @@
+//! Forward renderer: meshes and instances uploaded once per render, a depth
+//! buffer (reversed z), one draw per instance into an `Rgba32Float` target at
+//! the settings' resolution, read back into a [`penumbra_image::Image`].
+
+use crate::context::{GpuContext, GpuError};
+use crate::gpu::{GpuCamera, GpuInstance, GpuLight, GpuMaterial};
+use crate::shaders::forward_source;
+use glam::{Mat4, Vec3, Vec4};
+use penumbra_image::Image;
+use penumbra_scene::Scene;
+use penumbra_scene::camera::{Camera, Projection};
+use std::time::Instant;
+use wgpu::util::DeviceExt;
+
+const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+/// Options of the raster path.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RasterOptions {
+    /// Samples per pixel of the colour and depth targets: 1 or 4.
+    pub msaa: u32,
+}
+
+impl Default for RasterOptions {
+    fn default() -> Self {
+        Self { msaa: 1 }
+    }
+}
+
+/// A finished raster render.
+#[derive(Clone, Debug)]
+pub struct RasterOutput {
+    /// Linear radiance, row 0 = top (as the CPU film).
+    pub image: Image,
+    /// Wall time of upload, draw and readback [ms].
+    pub total_ms: f64,
+    /// Wall time from submitting the pass to the end of its execution [ms]
+    /// (the queue is polled until idle).
+    pub frame_ms: f64,
+    /// GPU time of the forward pass from timestamp queries [ms], where the
+    /// adapter supports them.
+    pub gpu_pass_ms: Option<f64>,
+    /// What the raster path approximated for this scene (see [`SceneData`]).
+    pub warnings: Vec<String>,
+}
+
+/// The scene as the forward pass sees it, and what it approximates.
+#[derive(Clone, Debug, Default)]
+pub struct SceneData {
+    pub lights: Vec<GpuLight>,
+    pub materials: Vec<GpuMaterial>,
+    pub instances: Vec<GpuInstance>,
+    /// What the raster path renders differently from the CPU `local`
+    /// integrator for this scene.
+    pub warnings: Vec<String>,
+}
+
+impl SceneData {
+    pub fn from_scene(scene: &Scene) -> Self {
+        let mut warnings = Vec::new();
+        let mut materials = Vec::with_capacity(scene.materials.len());
+        for m in &scene.materials {
+            let (g, exact) = GpuMaterial::from_bsdf(&m.bsdf, m.emission, m.double_sided);
+            if !exact {
+                warnings.push(format!(
+                    "raster: material '{}' ({}) has no WGSL twin yet; shaded as Lambert with its albedo",
+                    m.name,
+                    bsdf_name(&m.bsdf)
+                ));
+            }
+            if m.albedo_texture.is_some() || m.metallic_roughness_texture.is_some() {
+                warnings.push(format!(
+                    "raster: material '{}': textures are ignored (untextured factors used)",
+                    m.name
+                ));
+            }
+            materials.push(g);
+        }
+        if materials.is_empty() {
+            // Storage bindings cannot be empty.
+            materials.push(GpuMaterial::default());
+        }
+        let instances = scene
+            .instances
+            .iter()
+            .map(|inst| {
+                let material = inst.material.unwrap_or(scene.meshes[inst.mesh].material);
+                GpuInstance::new(
+                    inst.transform,
+                    inst.normal_matrix(),
+                    material as u32,
+                    scene.meshes[inst.mesh].normals.is_some(),
+                )
+            })
+            .collect();
+        let lights: Vec<GpuLight> = scene
+            .lights
+            .iter()
+            .map(|l| GpuLight::from_light(&l.light))
+            .collect();
+        if !scene.area_lights.is_empty() {
+            warnings.push(format!(
+                "raster: {} analytic area light(s) are neither drawn nor lit from (abstract lights only)",
+                scene.area_lights.len()
+            ));
+        }
+        if scene.materials.iter().any(|m| m.is_emissive()) {
+            warnings.push(
+                "raster: emissive surfaces are drawn with their emission but do not light other surfaces"
+                    .to_string(),
+            );
+        }
+        if scene.environment_map.is_some() {
+            warnings.push(
+                "raster: the environment map is not drawn or lit from; the background colour is used"
+                    .to_string(),
+            );
+        }
+        Self {
+            lights,
+            materials,
+            instances,
+            warnings,
+        }
+    }
+}
+
+fn bsdf_name(b: &penumbra_shading::bsdf::Bsdf) -> &'static str {
+    use penumbra_shading::bsdf::Bsdf;
+    match b {
+        Bsdf::Lambert(_) => "Lambert",
+        Bsdf::PhongBlinn(_) => "Phong-Blinn",
+        Bsdf::Mirror(_) => "mirror",
+        Bsdf::Conductor(_) => "conductor",
+        Bsdf::Dielectric(_) => "dielectric",
+        Bsdf::RoughConductor(_) => "rough conductor",
+        Bsdf::RoughDielectric(_) => "rough dielectric",
+        Bsdf::MetallicRoughness(_) => "metallic-roughness",
+    }
+}
+
+/// View-projection of `camera` for a `width`×`height` image with reversed
+/// depth (1 at the near plane, 0 at the far plane or infinity). Pixel
+/// centres map to the same points as `Camera::generate_ray(x + ½, y + ½)`:
+/// both use NDC x = 2 sx / width − 1, y = 1 − 2 sy / height.
+pub fn view_projection(camera: &Camera, width: u32, height: u32, bounds: (Vec3, Vec3)) -> Mat4 {
+    let aspect = width as f32 / height as f32;
+    let view = camera.camera_to_world.inverse();
+    let (lo, hi) = bounds;
+    let centre = 0.5 * (lo + hi);
+    let radius = (0.5 * (hi - lo).length()).max(1e-6);
+    let proj = match camera.projection {
+        Projection::Perspective { fov_y } => {
+            let dist = (camera.position() - centre).length();
+            // Reversed float depth keeps precision far away, so the near
+            // plane can sit well in front of the scene.
+            let near = ((dist - radius) * 0.5).max(radius * 1e-5).max(1e-6);
+            // Right-handed, infinite far plane, depth = near / −z_view.
+            let f = 1.0 / (0.5 * fov_y).tan();
+            Mat4::from_cols(
+                Vec4::new(f / aspect, 0.0, 0.0, 0.0),
+                Vec4::new(0.0, f, 0.0, 0.0),
+                Vec4::new(0.0, 0.0, 0.0, -1.0),
+                Vec4::new(0.0, 0.0, near, 0.0),
+            )
+        }
+        Projection::Orthographic { height } => {
+            // Rays start on the camera plane (z = 0), as the CPU's.
+            let z_centre = view.transform_point3(centre).z;
+            let far = (-z_centre + radius) * 1.01 + 1e-4;
+            let far = far.max(1e-4);
+            Mat4::from_cols(
+                Vec4::new(2.0 / (height * aspect), 0.0, 0.0, 0.0),
+                Vec4::new(0.0, 2.0 / height, 0.0, 0.0),
+                Vec4::new(0.0, 0.0, 1.0 / far, 0.0),
+                Vec4::new(0.0, 0.0, 1.0, 1.0),
+            )
+        }
+    };
+    proj * view
+}
+
+/// The camera constants of a frame.
+pub fn gpu_camera(
+    camera: &Camera,
+    width: u32,
+    height: u32,
+    bounds: (Vec3, Vec3),
+    light_count: u32,
+) -> GpuCamera {
+    let back = camera
+        .camera_to_world
+        .transform_vector3(Vec3::Z)
+        .normalize();
+    let ortho = matches!(camera.projection, Projection::Orthographic { .. });
+    GpuCamera {
+        view_proj: view_projection(camera, width, height, bounds).to_cols_array_2d(),
+        eye: camera.position().extend(1.0).to_array(),
+        back: back.extend(if ortho { 1.0 } else { 0.0 }).to_array(),
+        light_count,
+        ..GpuCamera::default()
+    }
+}
+
+struct GpuMesh {
+    positions: wgpu::Buffer,
+    normals: Option<wgpu::Buffer>,
+    indices: wgpu::Buffer,
+    index_count: u32,
+}
+
+/// The forward pipeline for one MSAA setting.
+#[derive(Debug)]
+pub struct ForwardRenderer {
+    pipeline: wgpu::RenderPipeline,
+    layout: wgpu::BindGroupLayout,
+    msaa: u32,
+}
+
+fn storage_entry(binding: u32, visibility: wgpu::ShaderStages) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only: true },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+impl ForwardRenderer {
+    pub fn new(ctx: &GpuContext, options: RasterOptions) -> Result<Self, GpuError> {
+        let msaa = options.msaa;
+        if msaa != 1 && msaa != 4 {
+            return Err(GpuError::Unsupported(format!("MSAA {msaa}: use 1 or 4")));
+        }
+        if msaa > 1 {
+            let f = ctx.adapter.get_texture_format_features(COLOR_FORMAT);
+            let ok = ctx
+                .device
+                .features()
+                .contains(wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES)
+                && f.flags.sample_count_supported(msaa)
+                && f.flags
+                    .contains(wgpu::TextureFormatFeatureFlags::MULTISAMPLE_RESOLVE);
+            if !ok {
+                return Err(GpuError::Unsupported(format!(
+                    "adapter '{}' cannot resolve {msaa}x multisampled {COLOR_FORMAT:?} targets; use --msaa 1",
+                    ctx.summary.name
+                )));
+            }
+        }
+        let device = &ctx.device;
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("penumbra forward"),
+            source: wgpu::ShaderSource::Wgsl(forward_source().into()),
+        });
+        let vf = wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT;
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("penumbra forward"),
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: vf,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
+                storage_entry(1, vf),
+                storage_entry(2, wgpu::ShaderStages::FRAGMENT),
+                storage_entry(3, wgpu::ShaderStages::FRAGMENT),
+            ],
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("penumbra forward"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let vec3_buffer = |location| wgpu::VertexBufferLayout {
+            array_stride: 12,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: if location == 0 {
+                &wgpu::vertex_attr_array![0 => Float32x3]
+            } else {
+                &wgpu::vertex_attr_array![1 => Float32x3]
+            },
+        };
+        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("penumbra forward"),
+            layout: Some(&pipeline_layout),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs_main"),
+                compilation_options: Default::default(),
+                buffers: &[Some(vec3_buffer(0)), Some(vec3_buffer(1))],
+            },
+            primitive: wgpu::PrimitiveState {
+                topology: wgpu::PrimitiveTopology::TriangleList,
+                front_face: wgpu::FrontFace::Ccw,
+                cull_mode: None,
+                ..Default::default()
+            },
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: DEPTH_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Greater),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: wgpu::MultisampleState {
+                count: msaa,
+                ..Default::default()
+            },
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs_main"),
+                compilation_options: Default::default(),
+                targets: &[Some(wgpu::ColorTargetState {
+                    format: COLOR_FORMAT,
+                    blend: None,
+                    write_mask: wgpu::ColorWrites::ALL,
+                })],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        Ok(Self {
+            pipeline,
+            layout,
+            msaa,
+        })
+    }
+
+    /// Renders `scene` through `camera` at `width`×`height`.
+    pub fn render(
+        &self,
+        ctx: &GpuContext,
+        scene: &Scene,
+        camera: &Camera,
+        width: u32,
+        height: u32,
+    ) -> Result<RasterOutput, GpuError> {
+        let start = Instant::now();
+        let device = &ctx.device;
+        let max_dim = device.limits().max_texture_dimension_2d;
+        if width == 0 || height == 0 || width > max_dim || height > max_dim {
+            return Err(GpuError::Unsupported(format!(
+                "resolution {width}x{height} (the adapter allows 1 to {max_dim} per edge)"
+            )));
+        }
+        let data = SceneData::from_scene(scene);
+        let bounds = scene
+            .bounds()
+            .unwrap_or((Vec3::splat(-1.0), Vec3::splat(1.0)));
+        let cam = gpu_camera(camera, width, height, bounds, data.lights.len() as u32);
+
+        let init = |label: &str, contents: &[u8], usage| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents,
+                usage,
+            })
+        };
+        let storage = wgpu::BufferUsages::STORAGE;
+        let camera_buf = init(
+            "camera",
+            bytemuck::bytes_of(&cam),
+            wgpu::BufferUsages::UNIFORM,
+        );
+        let mut instances = data.instances.clone();
+        if instances.is_empty() {
+            instances.push(GpuInstance::default());
+        }
+        let mut lights = data.lights.clone();
+        if lights.is_empty() {
+            lights.push(GpuLight::default());
+        }
+        let instance_buf = init("instances", bytemuck::cast_slice(&instances), storage);
+        let material_buf = init("materials", bytemuck::cast_slice(&data.materials), storage);
+        let light_buf = init("lights", bytemuck::cast_slice(&lights), storage);
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("penumbra forward"),
+            layout: &self.layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: camera_buf.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: instance_buf.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: material_buf.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: light_buf.as_entire_binding(),
+                },
+            ],
+        });
+        let meshes: Vec<Option<GpuMesh>> = scene
+            .meshes
+            .iter()
+            .map(|m| {
+                if m.indices.is_empty() || m.positions.is_empty() {
+                    return None;
+                }
+                let vertex = wgpu::BufferUsages::VERTEX;
+                let flat = |v: &[Vec3]| v.iter().map(|p| p.to_array()).collect::<Vec<[f32; 3]>>();
+                Some(GpuMesh {
+                    positions: init(
+                        "positions",
+                        bytemuck::cast_slice(&flat(&m.positions)),
+                        vertex,
+                    ),
+                    normals: m
+                        .normals
+                        .as_ref()
+                        .map(|n| init("normals", bytemuck::cast_slice(&flat(n)), vertex)),
+                    indices: init(
+                        "indices",
+                        bytemuck::cast_slice(&m.indices),
+                        wgpu::BufferUsages::INDEX,
+                    ),
+                    index_count: (m.indices.len() * 3) as u32,
+                })
+            })
+            .collect();
+
+        let size = wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        };
+        let target = |label: &str, format, samples, usage| {
+            device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size,
+                mip_level_count: 1,
+                sample_count: samples,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage,
+                view_formats: &[],
+            })
+        };
+        let attach = wgpu::TextureUsages::RENDER_ATTACHMENT;
+        let resolved = target(
+            "colour",
+            COLOR_FORMAT,
+            1,
+            attach | wgpu::TextureUsages::COPY_SRC,
+        );
+        let multisampled =
+            (self.msaa > 1).then(|| target("colour msaa", COLOR_FORMAT, self.msaa, attach));
+        let depth = target("depth", DEPTH_FORMAT, self.msaa, attach);
+        let resolved_view = resolved.create_view(&Default::default());
+        let ms_view = multisampled
+            .as_ref()
+            .map(|t| t.create_view(&Default::default()));
+        let depth_view = depth.create_view(&Default::default());
+
+        let timestamps = device.features().contains(wgpu::Features::TIMESTAMP_QUERY);
+        let query = timestamps.then(|| {
+            let set = device.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some("forward pass"),
+                ty: wgpu::QueryType::Timestamp,
+                count: 2,
+            });
+            let resolve = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("timestamps"),
+                size: 16,
+                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            });
+            let read = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("timestamps read"),
+                size: 16,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            (set, resolve, read)
+        });
+
+        let bytes_per_row = (width * 16).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
+            * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+        let readback = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("readback"),
+            size: bytes_per_row as u64 * height as u64,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+
+        let bg = scene.background;
+        let mut encoder = device.create_command_encoder(&Default::default());
+        {
+            let (view, resolve_target) = match &ms_view {
+                Some(ms) => (ms, Some(&resolved_view)),
+                None => (&resolved_view, None),
+            };
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("forward"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view,
+                    depth_slice: None,
+                    resolve_target,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color {
+                            r: bg.x as f64,
+                            g: bg.y as f64,
+                            b: bg.z as f64,
+                            a: 0.0,
+                        }),
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &depth_view,
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(0.0),
+                        store: wgpu::StoreOp::Discard,
+                    }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: query.as_ref().map(|(set, _, _)| {
+                    wgpu::RenderPassTimestampWrites {
+                        query_set: set,
+                        beginning_of_pass_write_index: Some(0),
+                        end_of_pass_write_index: Some(1),
+                    }
+                }),
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &bind_group, &[]);
+            for (i, inst) in scene.instances.iter().enumerate() {
+                let Some(mesh) = &meshes[inst.mesh] else {
+                    continue;
+                };
+                pass.set_vertex_buffer(0, mesh.positions.slice(..));
+                pass.set_vertex_buffer(
+                    1,
+                    mesh.normals.as_ref().unwrap_or(&mesh.positions).slice(..),
+                );
+                pass.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
+                let i = i as u32;
+                pass.draw_indexed(0..mesh.index_count, 0, i..i + 1);
+            }
+        }
+        if let Some((set, resolve, read)) = &query {
+            encoder.resolve_query_set(set, 0..2, resolve, 0);
+            encoder.copy_buffer_to_buffer(resolve, 0, read, 0, 16);
+        }
+        encoder.copy_texture_to_buffer(
+            wgpu::TexelCopyTextureInfo {
+                texture: &resolved,
+                mip_level: 0,
+                origin: wgpu::Origin3d::ZERO,
+                aspect: wgpu::TextureAspect::All,
+            },
+            wgpu::TexelCopyBufferInfo {
+                buffer: &readback,
+                layout: wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(bytes_per_row),
+                    rows_per_image: Some(height),
+                },
+            },
+            size,
+        );
+        let frame_start = Instant::now();
+        ctx.queue.submit([encoder.finish()]);
+        ctx.wait_idle()?;
+        let frame_ms = frame_start.elapsed().as_secs_f64() * 1e3;
+
+        let bytes = map_read(ctx, &readback)?;
+        let mut pixels = Vec::with_capacity(width as usize * height as usize);
+        for y in 0..height as usize {
+            let row: &[f32] =
+                bytemuck::cast_slice(&bytes[y * bytes_per_row as usize..][..width as usize * 16]);
+            pixels.extend(row.chunks_exact(4).map(|p| Vec3::new(p[0], p[1], p[2])));
+        }
+        let gpu_pass_ms = match &query {
+            Some((_, _, read)) => {
+                let ts = map_read(ctx, read)?;
+                let t: &[u64] = bytemuck::cast_slice(&ts);
+                let period = ctx.queue.get_timestamp_period() as f64;
+                Some(t[1].saturating_sub(t[0]) as f64 * period * 1e-6)
+            }
+            None => None,
+        };
+        let image =
+            Image::from_pixels(width, height, pixels).map_err(|e| GpuError::Wgpu(e.to_string()))?;
+        Ok(RasterOutput {
+            image,
+            total_ms: start.elapsed().as_secs_f64() * 1e3,
+            frame_ms,
+            gpu_pass_ms,
+            warnings: data.warnings,
+        })
+    }
+}
+
+/// Maps a `MAP_READ` buffer and copies its bytes out.
+pub fn map_read(ctx: &GpuContext, buffer: &wgpu::Buffer) -> Result<Vec<u8>, GpuError> {
+    let (tx, rx) = std::sync::mpsc::channel();
+    buffer.map_async(wgpu::MapMode::Read, .., move |r| {
+        let _ = tx.send(r);
+    });
+    ctx.wait_idle()?;
+    rx.recv()
+        .map_err(|e| GpuError::Wgpu(e.to_string()))?
+        .map_err(|e| GpuError::Wgpu(e.to_string()))?;
+    let out = buffer
+        .get_mapped_range(..)
+        .map_err(|e| GpuError::Wgpu(e.to_string()))?
+        .to_vec();
+    buffer.unmap();
+    Ok(out)
+}
+
+/// Renders with a fresh context and pipeline: the CLI's entry point.
+pub fn render_scene(
+    scene: &Scene,
+    camera: &Camera,
+    width: u32,
+    height: u32,
+    options: RasterOptions,
+) -> Result<(RasterOutput, crate::AdapterSummary), GpuError> {
+    let ctx = GpuContext::new()?;
+    let renderer = ForwardRenderer::new(&ctx, options)?;
+    let out = renderer.render(&ctx, scene, camera, width, height)?;
+    Ok((out, ctx.summary.clone()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use penumbra_scene::{Material, SceneAreaLight, primitives};
+    use penumbra_shading::bsdf::{Bsdf, Mirror};
+    use penumbra_shading::light::{AreaLight, Shape};
+
+    #[test]
+    fn scene_data_warns_about_what_it_approximates() {
+        let mut scene = Scene::default();
+        let lambert = scene.add_material(Material::lambert("white", Vec3::ONE));
+        let mut mesh = primitives::sphere(Vec3::ZERO, 1.0, 4);
+        mesh.material = lambert;
+        scene.add_mesh(mesh, Mat4::IDENTITY);
+        let data = SceneData::from_scene(&scene);
+        assert!(data.warnings.is_empty(), "{:?}", data.warnings);
+        assert_eq!((data.instances.len(), data.materials.len()), (1, 1));
+
+        scene.add_material(Material {
+            bsdf: Bsdf::Mirror(Mirror::new(Vec3::ONE)),
+            ..Material::lambert("chrome", Vec3::ONE)
+        });
+        scene.add_material(Material::emitter("lamp", Vec3::splat(5.0)));
+        scene.area_lights.push(SceneAreaLight {
+            name: "ball".into(),
+            light: AreaLight {
+                shape: Shape::Sphere {
+                    center: Vec3::Y,
+                    radius: 0.1,
+                },
+                radiance: Vec3::ONE,
+                two_sided: false,
+            },
+        });
+        let w = SceneData::from_scene(&scene).warnings.join("\n");
+        assert!(w.contains("'chrome' (mirror)"), "{w}");
+        assert!(w.contains("area light"), "{w}");
+        assert!(w.contains("emissive"), "{w}");
+    }
+}

@@ -1,0 +1,164 @@
+//! Shared by the GPU tests: the adapter (a failure, not a skip, without one
+//! unless PENUMBRA_SKIP_GPU=1), the test kernels' structs and WGSL, paths.
+#![allow(dead_code)]
+
+use bytemuck::{Pod, Zeroable};
+use penumbra_raster::GpuContext;
+use penumbra_raster::gpu::{GpuLight, HostLayout};
+use std::mem::{offset_of, size_of};
+use std::path::PathBuf;
+
+/// The GPU, or `None` (with a printed note) when PENUMBRA_SKIP_GPU=1. Without
+/// an adapter and without that variable the test fails.
+pub fn gpu(test: &str) -> Option<GpuContext> {
+    if std::env::var("PENUMBRA_SKIP_GPU").is_ok_and(|v| v == "1") {
+        eprintln!("note: {test}: skipped because PENUMBRA_SKIP_GPU=1 (no GPU check ran)");
+        return None;
+    }
+    match GpuContext::new() {
+        Ok(ctx) => {
+            eprintln!("{test}: adapter {}", ctx.summary);
+            Some(ctx)
+        }
+        Err(e) => panic!("{test}: {e} (set PENUMBRA_SKIP_GPU=1 to skip GPU tests)"),
+    }
+}
+
+/// ../shared/reference/<scene> next to the workspace.
+pub fn reference_dir(scene: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../../shared/reference")
+        .join(scene)
+}
+
+/// One BRDF evaluation (WGSL `BrdfCase`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct BrdfCase {
+    pub wo: [f32; 3],
+    pub shininess: f32,
+    pub wi: [f32; 3],
+    pub model: u32,
+    pub kd: [f32; 3],
+    pub variant: u32,
+    pub ks: [f32; 3],
+    pub _pad0: f32,
+}
+
+/// One light evaluation (WGSL `LightCase`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct LightCase {
+    pub light: GpuLight,
+    pub p: [f32; 3],
+    pub _pad0: f32,
+}
+
+/// The library's `LightIncidence`, as read back.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct LightIncidence {
+    pub wi: [f32; 3],
+    pub valid: u32,
+    pub value: [f32; 3],
+    pub distance: f32,
+}
+
+/// Compute kernels appended to the shading library.
+pub const KERNELS_WGSL: &str = r#"
+struct BrdfCase {
+    wo: vec3<f32>,
+    shininess: f32,
+    wi: vec3<f32>,
+    model: u32,
+    kd: vec3<f32>,
+    variant: u32,
+    ks: vec3<f32>,
+    _pad0: f32,
+}
+
+struct LightCase {
+    light: GpuLight,
+    p: vec3<f32>,
+    _pad0: f32,
+}
+
+@group(0) @binding(0) var<storage, read> brdf_cases: array<BrdfCase>;
+@group(0) @binding(1) var<storage, read_write> brdf_out: array<vec4<f32>>;
+@group(0) @binding(2) var<storage, read> light_cases: array<LightCase>;
+@group(0) @binding(3) var<storage, read_write> light_out: array<LightIncidence>;
+
+@compute @workgroup_size(64)
+fn eval_brdf(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= arrayLength(&brdf_cases) {
+        return;
+    }
+    let c = brdf_cases[i];
+    var m: GpuMaterial;
+    m.model = c.model;
+    m.variant = c.variant;
+    m.shininess = c.shininess;
+    m.kd = c.kd;
+    m.ks = c.ks;
+    brdf_out[i] = vec4<f32>(material_eval(m, c.wo, c.wi), 0.0);
+}
+
+@compute @workgroup_size(64)
+fn eval_light(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= arrayLength(&light_cases) {
+        return;
+    }
+    let c = light_cases[i];
+    light_out[i] = light_li(c.light, c.p);
+}
+"#;
+
+/// Host layouts of the test structs.
+pub fn test_structs() -> Vec<HostLayout> {
+    vec![
+        HostLayout {
+            wgsl_name: "BrdfCase",
+            size: size_of::<BrdfCase>(),
+            fields: vec![
+                ("wo", offset_of!(BrdfCase, wo)),
+                ("shininess", offset_of!(BrdfCase, shininess)),
+                ("wi", offset_of!(BrdfCase, wi)),
+                ("model", offset_of!(BrdfCase, model)),
+                ("kd", offset_of!(BrdfCase, kd)),
+                ("variant", offset_of!(BrdfCase, variant)),
+                ("ks", offset_of!(BrdfCase, ks)),
+                ("_pad0", offset_of!(BrdfCase, _pad0)),
+            ],
+        },
+        HostLayout {
+            wgsl_name: "LightCase",
+            size: size_of::<LightCase>(),
+            fields: vec![
+                ("light", offset_of!(LightCase, light)),
+                ("p", offset_of!(LightCase, p)),
+                ("_pad0", offset_of!(LightCase, _pad0)),
+            ],
+        },
+        HostLayout {
+            wgsl_name: "LightIncidence",
+            size: size_of::<LightIncidence>(),
+            fields: vec![
+                ("wi", offset_of!(LightIncidence, wi)),
+                ("valid", offset_of!(LightIncidence, valid)),
+                ("value", offset_of!(LightIncidence, value)),
+                ("distance", offset_of!(LightIncidence, distance)),
+            ],
+        },
+    ]
+}
+
+/// Within relative 1e-4 or absolute 1e-6.
+pub fn close(gpu: f32, cpu: f32) -> bool {
+    if gpu == cpu {
+        return true;
+    }
+    let d = (gpu - cpu).abs();
+    d <= 1e-6 || d <= 1e-4 * cpu.abs()
+}

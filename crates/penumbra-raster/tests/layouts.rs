@@ -1,0 +1,103 @@
+//! Every `#[repr(C)]` struct the host shares with a shader has the field
+//! names, offsets and size of its WGSL struct, as naga lays it out (WGSL
+//! alignment rules: vec3 aligned to 16, struct size rounded to its alignment).
+
+mod common;
+
+use naga::proc::Layouter;
+use penumbra_raster::gpu::{HostLayout, gpu_structs};
+use penumbra_raster::shaders::{forward_source, with_library};
+use std::collections::BTreeMap;
+
+/// (size, [(member name, offset)]) of every named struct in `source`.
+fn wgsl_structs(source: &str) -> BTreeMap<String, (u32, Vec<(String, u32)>)> {
+    let module = naga::front::wgsl::parse_str(source)
+        .unwrap_or_else(|e| panic!("WGSL does not parse: {}", e.emit_to_string(source)));
+    let mut layouter = Layouter::default();
+    layouter.update(module.to_ctx()).expect("layout");
+    let mut out = BTreeMap::new();
+    for (handle, ty) in module.types.iter() {
+        if let (Some(name), naga::TypeInner::Struct { members, span }) = (&ty.name, &ty.inner) {
+            assert_eq!(layouter[handle].size, *span, "{name}: layouter vs span");
+            let fields = members
+                .iter()
+                .map(|m| (m.name.clone().unwrap_or_default(), m.offset))
+                .collect();
+            out.insert(name.clone(), (*span, fields));
+        }
+    }
+    out
+}
+
+fn check(host: &[HostLayout], source: &str) -> usize {
+    let wgsl = wgsl_structs(source);
+    for h in host {
+        let (size, fields) = wgsl
+            .get(h.wgsl_name)
+            .unwrap_or_else(|| panic!("no WGSL struct {}", h.wgsl_name));
+        let host_fields: Vec<(String, u32)> = h
+            .fields
+            .iter()
+            .map(|(n, o)| (n.to_string(), *o as u32))
+            .collect();
+        assert_eq!(
+            &host_fields, fields,
+            "{}: host (name, offset) vs WGSL",
+            h.wgsl_name
+        );
+        assert_eq!(h.size as u32, *size, "{}: host size vs WGSL", h.wgsl_name);
+    }
+    wgsl.len()
+}
+
+#[test]
+fn forward_structs_match_wgsl() {
+    let host = gpu_structs();
+    let source = forward_source();
+    check(&host, &source);
+    // Every struct named Gpu* in the shaders is uploaded by the host, so it
+    // must have a host twin in the list.
+    for name in wgsl_structs(&source).keys() {
+        if name.starts_with("Gpu") {
+            assert!(
+                host.iter().any(|h| h.wgsl_name == name),
+                "WGSL struct {name} has no #[repr(C)] host twin in gpu_structs()"
+            );
+        }
+    }
+}
+
+#[test]
+fn test_kernel_structs_match_wgsl() {
+    let mut host = common::test_structs();
+    host.extend(
+        gpu_structs()
+            .into_iter()
+            .filter(|h| h.wgsl_name == "GpuLight" || h.wgsl_name == "GpuMaterial"),
+    );
+    check(&host, &with_library(common::KERNELS_WGSL));
+}
+
+#[test]
+fn layout_check_detects_a_mismatch() {
+    // The comparison itself must be able to fail: a host struct that packs
+    // a vec3 right after a scalar (no 16-byte alignment) does not match.
+    let wrong = HostLayout {
+        wgsl_name: "GpuMaterial",
+        size: 52,
+        fields: vec![
+            ("model", 0),
+            ("variant", 4),
+            ("shininess", 8),
+            ("double_sided", 12),
+            ("kd", 16),
+            ("_pad0", 28),
+            ("ks", 32),
+            ("_pad1", 44),
+            ("emission", 40),
+            ("_pad2", 48),
+        ],
+    };
+    let r = std::panic::catch_unwind(|| check(&[wrong], &forward_source()));
+    assert!(r.is_err());
+}
