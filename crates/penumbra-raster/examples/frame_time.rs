@@ -23,7 +23,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let scene = load_scene(std::path::Path::new(path), &LoadOptions::default())?;
     let camera = penumbra_trace::scene_camera(&scene);
     let ctx = GpuContext::new()?;
-    let renderer = ForwardRenderer::new(&ctx, RasterOptions { msaa })?;
+    let renderer = ForwardRenderer::new(
+        &ctx,
+        RasterOptions {
+            msaa,
+            ..Default::default()
+        },
+    )?;
     let mut frame = Vec::new();
     let mut gpu = Vec::new();
     for _ in 0..n.max(1) {

@@ -161,6 +161,39 @@ impl GpuInstance {
     }
 }
 
+/// How one light is shadowed (WGSL `GpuShadow`), indexed like the lights.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuShadow {
+    /// First layer of the light's views in the shadow-map array.
+    pub first_layer: u32,
+    /// 0: not shadowed; 1: one view (directional, spot); 6: the six cube
+    /// faces of a point light (+x, −x, +y, −y, +z, −z).
+    pub layer_count: u32,
+    /// PCF kernel edge N (N×N taps, 1 = one hard tap).
+    pub pcf: u32,
+    /// 1 for perspective views (spot, point), 0 orthographic (directional).
+    pub perspective: u32,
+    /// World size of one texel: orthographic views its size, perspective
+    /// views its size per unit of distance along the view axis.
+    pub texel: f32,
+    /// Normal offset of the lookup point in texels (scaled by `texel`).
+    pub normal_offset: f32,
+    /// Edge of the shadow map in texels.
+    pub map_size: f32,
+    pub _pad0: f32,
+}
+
+/// One depth-only view of a light (WGSL `GpuShadowView`), one per layer.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuShadowView {
+    /// World to clip, reversed depth (1 near the light, 0 far from it).
+    pub view_proj: [[f32; 4]; 4],
+    /// Unit view axis (direction the view looks along), w unused.
+    pub axis: [f32; 4],
+}
+
 /// Host layout of one `#[repr(C)]` GPU struct: its WGSL name, size and
 /// (field name, offset) pairs, from `size_of` and `offset_of!`.
 #[derive(Clone, Debug, PartialEq)]
@@ -224,6 +257,21 @@ pub fn gpu_structs() -> Vec<HostLayout> {
             "GpuInstance",
             [model, normal, material, has_normals, flip_winding, _pad0]
         ),
+        host_layout!(
+            GpuShadow,
+            "GpuShadow",
+            [
+                first_layer,
+                layer_count,
+                pcf,
+                perspective,
+                texel,
+                normal_offset,
+                map_size,
+                _pad0
+            ]
+        ),
+        host_layout!(GpuShadowView, "GpuShadowView", [view_proj, axis]),
     ]
 }
 

@@ -3,7 +3,7 @@
 //! the settings' resolution, read back into a [`penumbra_image::Image`].
 
 use crate::context::{GpuContext, GpuError};
-use crate::gpu::{GpuCamera, GpuInstance, GpuLight, GpuMaterial};
+use crate::gpu::{GpuCamera, GpuInstance, GpuLight, GpuMaterial, GpuShadow, GpuShadowView};
 use crate::shaders::forward_source;
 use glam::{Mat4, Vec3, Vec4};
 use penumbra_image::Image;
@@ -14,18 +14,201 @@ use wgpu::util::DeviceExt;
 
 const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+/// Constant part of the shadow passes' depth bias, in units of the depth
+/// format's precision at the triangle's depth.
+const SHADOW_CONSTANT_BIAS: i32 = 16;
+
+/// How the raster path shadows the abstract lights.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ShadowMode {
+    /// No shadows (the CPU `local` integrator's model).
+    #[default]
+    None,
+    /// Shadow maps: orthographic for directional lights (fitted to the scene
+    /// bounds), perspective for spot lights (frustum = outer cone), six
+    /// perspective cube faces for point lights.
+    Map,
+}
+
+/// Default edge of a shadow map in texels.
+pub const DEFAULT_SHADOW_MAP_SIZE: u32 = 2048;
+/// Default slope-scaled depth bias of the shadow passes, in units of the
+/// depth slope of the occluder's triangle per texel (rasteriser state).
+pub const DEFAULT_SLOPE_BIAS: f32 = 1.5;
+/// Default normal offset of the shadow lookup, in shadow-map texels.
+pub const DEFAULT_NORMAL_OFFSET: f32 = 1.0;
 
 /// Options of the raster path.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RasterOptions {
     /// Samples per pixel of the colour and depth targets: 1 or 4.
     pub msaa: u32,
+    pub shadows: ShadowMode,
+    /// Edge of every shadow map (layer) in texels.
+    pub shadow_map_size: u32,
+    /// PCF kernel edge N: N×N comparison taps one texel apart (1 = one hard
+    /// tap with nearest filtering; N > 1 taps are bilinearly filtered).
+    pub pcf: u32,
+    /// Slope-scaled depth bias of the shadow passes (see
+    /// [`DEFAULT_SLOPE_BIAS`]).
+    pub slope_bias: f32,
+    /// Normal offset of the lookup in texels (see [`DEFAULT_NORMAL_OFFSET`]).
+    pub normal_offset: f32,
 }
 
 impl Default for RasterOptions {
     fn default() -> Self {
-        Self { msaa: 1 }
+        Self {
+            msaa: 1,
+            shadows: ShadowMode::None,
+            shadow_map_size: DEFAULT_SHADOW_MAP_SIZE,
+            pcf: 1,
+            slope_bias: DEFAULT_SLOPE_BIAS,
+            normal_offset: DEFAULT_NORMAL_OFFSET,
+        }
     }
+}
+
+/// Largest PCF kernel edge.
+pub const MAX_PCF: u32 = 15;
+
+/// Right-handed world-to-view transform of an eye at `eye` looking along
+/// `dir` (view −z) with `up` roughly view +y.
+fn look_to(eye: Vec3, dir: Vec3, up: Vec3) -> Mat4 {
+    let f = dir.normalize();
+    let s = f.cross(up).normalize();
+    let u = s.cross(f);
+    Mat4::from_cols(
+        Vec4::new(s.x, u.x, -f.x, 0.0),
+        Vec4::new(s.y, u.y, -f.y, 0.0),
+        Vec4::new(s.z, u.z, -f.z, 0.0),
+        Vec4::new(-s.dot(eye), -u.dot(eye), f.dot(eye), 1.0),
+    )
+}
+
+/// The shadow-map views of the scene's lights: one [`GpuShadow`] per light
+/// and one [`GpuShadowView`] per layer of the shadow-map array.
+///
+/// Every view stores reversed depth (1 near the light). Directional lights:
+/// an orthographic view along the light fitted to the eight corners of the
+/// scene bounds. Spot lights: an infinite reversed perspective along the
+/// spot axis whose square frustum contains the outer cone (a cone wider than
+/// 170° is clamped to 170°). Point lights: six 90° faces looking along ±x,
+/// ±y, ±z (a depth "cube" stored as six array layers with their own
+/// view-projections; the shader picks the face of the major axis). The
+/// perspective frusta are widened by the PCF kernel's half-width plus a
+/// texel so that taps near a face edge stay inside the face.
+pub fn shadow_views(
+    lights: &[penumbra_scene::SceneLight],
+    bounds: (Vec3, Vec3),
+    size: u32,
+    pcf: u32,
+    normal_offset: f32,
+) -> (Vec<GpuShadow>, Vec<GpuShadowView>) {
+    use penumbra_shading::light::Light;
+    let (lo, hi) = bounds;
+    let centre = 0.5 * (lo + hi);
+    let radius = (0.5 * (hi - lo).length()).max(1e-4);
+    let size_f = size as f32;
+    let margin = (pcf / 2 + 1) as f32;
+    let widen = size_f / (size_f - 2.0 * margin).max(1.0);
+    let mut shadows = Vec::with_capacity(lights.len());
+    let mut views = Vec::new();
+    let up_for = |axis: Vec3| {
+        if axis.y.abs() > 0.99 {
+            Vec3::Z
+        } else {
+            Vec3::Y
+        }
+    };
+    // Reversed infinite perspective (depth = near / distance along the axis).
+    let perspective = |pos: Vec3, axis: Vec3, tan_half: f32| {
+        let near = radius * 1e-4;
+        let f = 1.0 / tan_half;
+        let proj = Mat4::from_cols(
+            Vec4::new(f, 0.0, 0.0, 0.0),
+            Vec4::new(0.0, f, 0.0, 0.0),
+            Vec4::new(0.0, 0.0, 0.0, -1.0),
+            Vec4::new(0.0, 0.0, near, 0.0),
+        );
+        GpuShadowView {
+            view_proj: (proj * look_to(pos, axis, up_for(axis))).to_cols_array_2d(),
+            axis: axis.extend(0.0).to_array(),
+        }
+    };
+    for l in lights {
+        let first_layer = views.len() as u32;
+        let mut sh = GpuShadow {
+            first_layer,
+            pcf,
+            normal_offset,
+            map_size: size_f,
+            ..GpuShadow::default()
+        };
+        match &l.light {
+            Light::Directional(d) => {
+                let axis = d.direction.normalize();
+                let eye = centre - axis * (2.0 * radius);
+                let view = look_to(eye, axis, up_for(axis));
+                let mut vlo = Vec3::splat(f32::INFINITY);
+                let mut vhi = Vec3::splat(f32::NEG_INFINITY);
+                for i in 0..8 {
+                    let c = Vec3::new(
+                        if i & 1 == 0 { lo.x } else { hi.x },
+                        if i & 2 == 0 { lo.y } else { hi.y },
+                        if i & 4 == 0 { lo.z } else { hi.z },
+                    );
+                    let v = view.transform_point3(c);
+                    vlo = vlo.min(v);
+                    vhi = vhi.max(v);
+                }
+                // A square texel grid over the fitted rectangle, a margin of
+                // the PCF half-width around it.
+                let extent = (vhi.x - vlo.x).max(vhi.y - vlo.y).max(1e-4) * widen;
+                let mid = 0.5 * (vlo + vhi);
+                let pad = 1e-3 * radius;
+                let (zn, zf) = (vhi.z + pad, vlo.z - pad);
+                let s = 2.0 / extent;
+                let proj = Mat4::from_cols(
+                    Vec4::new(s, 0.0, 0.0, 0.0),
+                    Vec4::new(0.0, s, 0.0, 0.0),
+                    Vec4::new(0.0, 0.0, 1.0 / (zn - zf), 0.0),
+                    Vec4::new(-s * mid.x, -s * mid.y, -zf / (zn - zf), 1.0),
+                );
+                views.push(GpuShadowView {
+                    view_proj: (proj * view).to_cols_array_2d(),
+                    axis: axis.extend(0.0).to_array(),
+                });
+                sh.layer_count = 1;
+                sh.texel = extent / size_f;
+            }
+            Light::Spot(sp) => {
+                let c = sp.cos_outer.clamp(85f32.to_radians().cos(), 1.0 - 1e-6);
+                let tan_half = (1.0 - c * c).sqrt() / c * widen;
+                views.push(perspective(sp.position, sp.direction.normalize(), tan_half));
+                sh.layer_count = 1;
+                sh.perspective = 1;
+                sh.texel = 2.0 * tan_half / size_f;
+            }
+            Light::Point(pt) => {
+                for axis in [
+                    Vec3::X,
+                    Vec3::NEG_X,
+                    Vec3::Y,
+                    Vec3::NEG_Y,
+                    Vec3::Z,
+                    Vec3::NEG_Z,
+                ] {
+                    views.push(perspective(pt.position, axis, widen));
+                }
+                sh.layer_count = 6;
+                sh.perspective = 1;
+                sh.texel = 2.0 * widen / size_f;
+            }
+        }
+        shadows.push(sh);
+    }
+    (shadows, views)
 }
 
 /// A finished raster render.
@@ -41,6 +224,10 @@ pub struct RasterOutput {
     /// GPU time of the forward pass from timestamp queries [ms], where the
     /// adapter supports them.
     pub gpu_pass_ms: Option<f64>,
+    /// GPU time of each shadow pass (one per shadow-map layer: one per
+    /// directional or spot light, six per point light) [ms], where the
+    /// adapter supports timestamp queries; empty otherwise.
+    pub shadow_pass_ms: Vec<f64>,
     /// What the raster path approximated for this scene (see [`SceneData`]).
     pub warnings: Vec<String>,
 }
@@ -215,6 +402,10 @@ struct GpuMesh {
 pub struct ForwardRenderer {
     pipeline: wgpu::RenderPipeline,
     layout: wgpu::BindGroupLayout,
+    shadow_pipeline: wgpu::RenderPipeline,
+    shadow_layout: wgpu::BindGroupLayout,
+    shadow_sampler: wgpu::Sampler,
+    options: RasterOptions,
     msaa: u32,
 }
 
@@ -253,6 +444,19 @@ impl ForwardRenderer {
                 )));
             }
         }
+        let size = options.shadow_map_size;
+        let max_dim = ctx.device.limits().max_texture_dimension_2d;
+        if options.shadows == ShadowMode::Map && (size < 16 || size > max_dim) {
+            return Err(GpuError::Unsupported(format!(
+                "shadow map size {size} (the adapter allows 16 to {max_dim})"
+            )));
+        }
+        if options.pcf == 0 || options.pcf > MAX_PCF {
+            return Err(GpuError::Unsupported(format!(
+                "PCF kernel {}: use 1 to {MAX_PCF}",
+                options.pcf
+            )));
+        }
         let device = &ctx.device;
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("penumbra forward"),
@@ -275,7 +479,88 @@ impl ForwardRenderer {
                 storage_entry(1, vf),
                 storage_entry(2, wgpu::ShaderStages::FRAGMENT),
                 storage_entry(3, wgpu::ShaderStages::FRAGMENT),
+                storage_entry(4, wgpu::ShaderStages::FRAGMENT),
+                storage_entry(5, wgpu::ShaderStages::FRAGMENT),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 6,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Depth,
+                        view_dimension: wgpu::TextureViewDimension::D2Array,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 7,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
+                    count: None,
+                },
             ],
+        });
+        let shadow_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("penumbra shadow"),
+            entries: &[
+                storage_entry(1, wgpu::ShaderStages::VERTEX),
+                storage_entry(5, wgpu::ShaderStages::VERTEX),
+            ],
+        });
+        let shadow_pipeline_layout =
+            device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("penumbra shadow"),
+                bind_group_layouts: &[Some(&shadow_layout)],
+                immediate_size: 0,
+            });
+        // Depth only, no culling (open meshes and single quads cast too);
+        // reversed depth, so the bias is negative: it moves the stored
+        // depth away from the light by `slope_bias` times the triangle's
+        // depth slope, plus a few units of the depth format's precision.
+        let shadow_pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("penumbra shadow"),
+            layout: Some(&shadow_pipeline_layout),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs_shadow"),
+                compilation_options: Default::default(),
+                buffers: &[Some(wgpu::VertexBufferLayout {
+                    array_stride: 12,
+                    step_mode: wgpu::VertexStepMode::Vertex,
+                    attributes: &wgpu::vertex_attr_array![0 => Float32x3],
+                })],
+            },
+            primitive: wgpu::PrimitiveState {
+                topology: wgpu::PrimitiveTopology::TriangleList,
+                cull_mode: None,
+                ..Default::default()
+            },
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: DEPTH_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Greater),
+                stencil: Default::default(),
+                bias: wgpu::DepthBiasState {
+                    constant: -SHADOW_CONSTANT_BIAS,
+                    slope_scale: -options.slope_bias,
+                    clamp: 0.0,
+                },
+            }),
+            multisample: Default::default(),
+            fragment: None,
+            multiview_mask: None,
+            cache: None,
+        });
+        let filter = if options.pcf == 1 {
+            wgpu::FilterMode::Nearest
+        } else {
+            wgpu::FilterMode::Linear
+        };
+        let shadow_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("shadow compare"),
+            mag_filter: filter,
+            min_filter: filter,
+            compare: Some(wgpu::CompareFunction::GreaterEqual),
+            ..Default::default()
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("penumbra forward"),
@@ -333,6 +618,10 @@ impl ForwardRenderer {
         Ok(Self {
             pipeline,
             layout,
+            shadow_pipeline,
+            shadow_layout,
+            shadow_sampler,
+            options,
             msaa,
         })
     }
@@ -384,6 +673,49 @@ impl ForwardRenderer {
         let instance_buf = init("instances", bytemuck::cast_slice(&instances), storage);
         let material_buf = init("materials", bytemuck::cast_slice(&data.materials), storage);
         let light_buf = init("lights", bytemuck::cast_slice(&lights), storage);
+        let o = self.options;
+        let (mut shadows, mut views) = match o.shadows {
+            ShadowMode::Map => shadow_views(
+                &scene.lights,
+                bounds,
+                o.shadow_map_size,
+                o.pcf,
+                o.normal_offset,
+            ),
+            ShadowMode::None => (Vec::new(), Vec::new()),
+        };
+        let layers = views.len() as u32;
+        let max_layers = device.limits().max_texture_array_layers;
+        if layers > max_layers {
+            return Err(GpuError::Unsupported(format!(
+                "{layers} shadow-map layers (the adapter allows {max_layers}; a point light takes 6)"
+            )));
+        }
+        shadows.resize(lights.len(), GpuShadow::default());
+        if views.is_empty() {
+            views.push(GpuShadowView::default());
+        }
+        let map_size = if layers > 0 { o.shadow_map_size } else { 1 };
+        let shadow_map = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("shadow maps"),
+            size: wgpu::Extent3d {
+                width: map_size,
+                height: map_size,
+                depth_or_array_layers: layers.max(1),
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: DEPTH_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        });
+        let shadow_array_view = shadow_map.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            ..Default::default()
+        });
+        let shadow_buf = init("shadows", bytemuck::cast_slice(&shadows), storage);
+        let view_buf = init("shadow views", bytemuck::cast_slice(&views), storage);
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("penumbra forward"),
             layout: &self.layout,
@@ -403,6 +735,36 @@ impl ForwardRenderer {
                 wgpu::BindGroupEntry {
                     binding: 3,
                     resource: light_buf.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: shadow_buf.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 5,
+                    resource: view_buf.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 6,
+                    resource: wgpu::BindingResource::TextureView(&shadow_array_view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 7,
+                    resource: wgpu::BindingResource::Sampler(&self.shadow_sampler),
+                },
+            ],
+        });
+        let shadow_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("penumbra shadow"),
+            layout: &self.shadow_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: instance_buf.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 5,
+                    resource: view_buf.as_entire_binding(),
                 },
             ],
         });
@@ -469,21 +831,24 @@ impl ForwardRenderer {
         let depth_view = depth.create_view(&Default::default());
 
         let timestamps = device.features().contains(wgpu::Features::TIMESTAMP_QUERY);
+        // Queries 0, 1: the forward pass; 2 + 2l, 3 + 2l: shadow layer l.
+        let query_count = 2 + 2 * layers;
+        let query_bytes = 8 * query_count as u64;
         let query = timestamps.then(|| {
             let set = device.create_query_set(&wgpu::QuerySetDescriptor {
-                label: Some("forward pass"),
+                label: Some("forward and shadow passes"),
                 ty: wgpu::QueryType::Timestamp,
-                count: 2,
+                count: query_count,
             });
             let resolve = device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("timestamps"),
-                size: 16,
+                size: query_bytes,
                 usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
                 mapped_at_creation: false,
             });
             let read = device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("timestamps read"),
-                size: 16,
+                size: query_bytes,
                 usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             });
@@ -501,6 +866,47 @@ impl ForwardRenderer {
 
         let bg = scene.background;
         let mut encoder = device.create_command_encoder(&Default::default());
+        let instance_count = instances.len() as u32;
+        for layer in 0..layers {
+            let view = shadow_map.create_view(&wgpu::TextureViewDescriptor {
+                dimension: Some(wgpu::TextureViewDimension::D2),
+                base_array_layer: layer,
+                array_layer_count: Some(1),
+                ..Default::default()
+            });
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("shadow"),
+                color_attachments: &[],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &view,
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(0.0),
+                        store: wgpu::StoreOp::Store,
+                    }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: query.as_ref().map(|(set, _, _)| {
+                    wgpu::RenderPassTimestampWrites {
+                        query_set: set,
+                        beginning_of_pass_write_index: Some(2 + 2 * layer),
+                        end_of_pass_write_index: Some(3 + 2 * layer),
+                    }
+                }),
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_pipeline(&self.shadow_pipeline);
+            pass.set_bind_group(0, &shadow_bind_group, &[]);
+            for (i, inst) in scene.instances.iter().enumerate() {
+                let Some(mesh) = &meshes[inst.mesh] else {
+                    continue;
+                };
+                pass.set_vertex_buffer(0, mesh.positions.slice(..));
+                pass.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
+                let i = layer * instance_count + i as u32;
+                pass.draw_indexed(0..mesh.index_count, 0, i..i + 1);
+            }
+        }
         {
             let (view, resolve_target) = match &ms_view {
                 Some(ms) => (ms, Some(&resolved_view)),
@@ -557,8 +963,8 @@ impl ForwardRenderer {
             }
         }
         if let Some((set, resolve, read)) = &query {
-            encoder.resolve_query_set(set, 0..2, resolve, 0);
-            encoder.copy_buffer_to_buffer(resolve, 0, read, 0, 16);
+            encoder.resolve_query_set(set, 0..query_count, resolve, 0);
+            encoder.copy_buffer_to_buffer(resolve, 0, read, 0, query_bytes);
         }
         encoder.copy_texture_to_buffer(
             wgpu::TexelCopyTextureInfo {
@@ -589,14 +995,18 @@ impl ForwardRenderer {
                 bytemuck::cast_slice(&bytes[y * bytes_per_row as usize..][..width as usize * 16]);
             pixels.extend(row.chunks_exact(4).map(|p| Vec3::new(p[0], p[1], p[2])));
         }
-        let gpu_pass_ms = match &query {
+        let (gpu_pass_ms, shadow_pass_ms) = match &query {
             Some((_, _, read)) => {
                 let ts = map_read(ctx, read)?;
                 let t: &[u64] = bytemuck::cast_slice(&ts);
                 let period = ctx.queue.get_timestamp_period() as f64;
-                Some(t[1].saturating_sub(t[0]) as f64 * period * 1e-6)
+                let ms = |a: usize| t[a + 1].saturating_sub(t[a]) as f64 * period * 1e-6;
+                (
+                    Some(ms(0)),
+                    (0..layers as usize).map(|l| ms(2 + 2 * l)).collect(),
+                )
             }
-            None => None,
+            None => (None, Vec::new()),
         };
         let image =
             Image::from_pixels(width, height, pixels).map_err(|e| GpuError::Wgpu(e.to_string()))?;
@@ -605,6 +1015,7 @@ impl ForwardRenderer {
             total_ms: start.elapsed().as_secs_f64() * 1e3,
             frame_ms,
             gpu_pass_ms,
+            shadow_pass_ms,
             warnings: data.warnings,
         })
     }

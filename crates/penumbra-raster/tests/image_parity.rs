@@ -45,7 +45,13 @@ fn parity(ctx: &GpuContext, name: &str, scene: &Scene, camera: Camera, size: u32
     let cpu = cpu_local(scene, camera, size, size, 16);
     let mut best = f64::INFINITY;
     for msaa in [1, 4] {
-        let renderer = match ForwardRenderer::new(ctx, RasterOptions { msaa }) {
+        let renderer = match ForwardRenderer::new(
+            ctx,
+            RasterOptions {
+                msaa,
+                ..Default::default()
+            },
+        ) {
             Ok(r) => r,
             Err(e) if msaa > 1 => {
                 eprintln!("{name}: MSAA {msaa} unavailable: {e}");
