@@ -75,6 +75,38 @@ fn bad_arguments_fail_without_output() {
         ),
         (&["render", "--msaa", "4", "-o", "a.png"], "--engine raster"),
         (
+            &["render", "--shadows", "map", "-o", "a.png"],
+            "--shadows applies to --engine raster only",
+        ),
+        (
+            &["render", "--pcf", "3", "-o", "a.png"],
+            "--pcf applies to --engine raster only",
+        ),
+        (
+            &["render", "--shadow-map-size", "512", "-o", "a.png"],
+            "--shadow-map-size applies to --engine raster only",
+        ),
+        (
+            &["render", "--engine", "raster", "--pcf", "0", "-o", "a.png"],
+            "PCF kernel",
+        ),
+        (
+            &[
+                "render",
+                "--engine",
+                "raster",
+                "--shadows",
+                "volume",
+                "-o",
+                "a.png",
+            ],
+            "volume",
+        ),
+        (
+            &["render", "--engine", "raster", "--pcf", "3", "-o", "a.png"],
+            "--shadows map",
+        ),
+        (
             &["render", "--engine", "raster", "--aovs", "-o", "a.exr"],
             "--aovs",
         ),
@@ -280,4 +312,59 @@ fn raster_engine_round_trip() {
     let flip = v["flip"].as_f64().expect("flip");
     assert!(flip <= 0.02, "raster vs local: FLIP {flip}");
     assert!(d.join("r.png").exists());
+
+    // Shadow maps: closer to the CPU `direct` integrator than no shadows.
+    let o = penumbra(
+        &[
+            &[
+                "render",
+                &scene,
+                "--engine",
+                "raster",
+                "--shadows",
+                "map",
+                "--shadow-map-size",
+                "1024",
+                "--pcf",
+                "3",
+                "-o",
+                "s.exr",
+            ],
+            &res[..],
+        ]
+        .concat(),
+        d,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = penumbra(
+        &[
+            &[
+                "render",
+                &scene,
+                "--integrator",
+                "direct",
+                "--spp",
+                "16",
+                "-o",
+                "t.exr",
+            ],
+            &res[..],
+        ]
+        .concat(),
+        d,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let flip_of = |test: &str| {
+        let o = penumbra(&["compare", "t.exr", test, "--json"], d);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let out = String::from_utf8_lossy(&o.stdout).into_owned();
+        let v: serde_json::Value = serde_json::from_str(out.trim()).expect("json");
+        v["flip"].as_f64().expect("flip")
+    };
+    let (with_maps, without) = (flip_of("s.exr"), flip_of("r.exr"));
+    eprintln!("raster vs direct: FLIP {with_maps:.4} with shadow maps, {without:.4} without");
+    assert!(
+        with_maps < without,
+        "shadow maps do not approach direct: FLIP {with_maps} vs {without} without"
+    );
 }

@@ -7,7 +7,7 @@ use anyhow::{Context, Result, bail};
 use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use penumbra_image::{ToneMapping, ToneOperator, check_output_path, write_image};
-use penumbra_raster::RasterOptions;
+use penumbra_raster::{DEFAULT_SHADOW_MAP_SIZE, MAX_PCF, RasterOptions, ShadowMode};
 use penumbra_scene::{IntegratorKind, RenderSettings, Scene};
 use penumbra_trace::{Progress, RenderOptions, render, scene_camera};
 use std::io::IsTerminal;
@@ -55,13 +55,39 @@ pub struct RenderArgs {
     #[arg(long, value_enum, default_value_t = ToneArg::Filmic)]
     pub tonemap: ToneArg,
     /// trace: the CPU ray tracer; raster: the GPU forward renderer (wgpu),
-    /// per-pixel shading of the abstract lights without shadows (the model
-    /// of `--integrator local`).
+    /// per-pixel shading of the abstract lights (the model of `--integrator
+    /// local`), shadowed with `--shadows map`.
     #[arg(long, value_enum, default_value_t = Engine::Trace)]
     pub engine: Engine,
     /// Raster engine: samples per pixel of the colour and depth targets (1 or 4).
     #[arg(long, default_value_t = 1, value_parser = parse_msaa)]
     pub msaa: u32,
+    /// Raster engine: shadows of the abstract lights. none (default): no
+    /// shadows; map: shadow maps (directional: orthographic, spot:
+    /// perspective, point: six cube faces). planar and volume are planned.
+    #[arg(long, value_enum)]
+    pub shadows: Option<ShadowArg>,
+    /// Raster engine, --shadows map: edge of each shadow map in texels
+    /// [default: 2048].
+    #[arg(long, value_parser = parse_positive, allow_negative_numbers = true)]
+    pub shadow_map_size: Option<u32>,
+    /// Raster engine, --shadows map: PCF kernel N (N×N taps; 1 = hard
+    /// shadows) [default: 1].
+    #[arg(long, value_parser = parse_pcf, allow_negative_numbers = true)]
+    pub pcf: Option<u32>,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ShadowArg {
+    None,
+    Map,
+}
+
+fn parse_pcf(s: &str) -> Result<u32, String> {
+    match s.trim().parse::<u32>() {
+        Ok(n) if (1..=MAX_PCF).contains(&n) => Ok(n),
+        _ => Err(format!("'{s}' is not a PCF kernel size (1 to {MAX_PCF})")),
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -136,6 +162,17 @@ pub fn run(args: RenderArgs) -> Result<()> {
     if args.msaa != 1 {
         bail!("--msaa applies to --engine raster only");
     }
+    for (set, flag) in [
+        (args.shadows.is_some(), "--shadows"),
+        (args.shadow_map_size.is_some(), "--shadow-map-size"),
+        (args.pcf.is_some(), "--pcf"),
+    ] {
+        if set {
+            bail!(
+                "{flag} applies to --engine raster only (the ray tracer's shadows come from --integrator direct, whitted or path)"
+            );
+        }
+    }
 
     let bar = std::io::stderr().is_terminal().then(|| {
         let total = settings.width as u64 * settings.height as u64 * settings.spp as u64;
@@ -197,8 +234,15 @@ fn render_raster(
     }
     if args.integrator.is_some_and(|i| i != IntegratorKind::Local) {
         eprintln!(
-            "penumbra: warning: --engine raster shades like --integrator local (direct light from the abstract lights, no shadows); --integrator is ignored"
+            "penumbra: warning: --engine raster shades like --integrator local (direct light from the abstract lights; shadows only with --shadows map); --integrator is ignored"
         );
+    }
+    let shadows = match args.shadows.unwrap_or(ShadowArg::None) {
+        ShadowArg::None => ShadowMode::None,
+        ShadowArg::Map => ShadowMode::Map,
+    };
+    if shadows == ShadowMode::None && (args.shadow_map_size.is_some() || args.pcf.is_some()) {
+        bail!("--shadow-map-size and --pcf need --shadows map");
     }
     let camera = scene_camera(scene);
     let (out, adapter) = penumbra_raster::render_scene(
@@ -206,16 +250,29 @@ fn render_raster(
         &camera,
         settings.width,
         settings.height,
-        RasterOptions { msaa: args.msaa },
+        RasterOptions {
+            msaa: args.msaa,
+            shadows,
+            shadow_map_size: args.shadow_map_size.unwrap_or(DEFAULT_SHADOW_MAP_SIZE),
+            pcf: args.pcf.unwrap_or(1),
+            ..Default::default()
+        },
     )?;
     for w in &out.warnings {
         eprintln!("penumbra: warning: {w}");
     }
     write_image(&args.output, &out.image, &[], tm)
         .with_context(|| format!("writing {}", args.output.display()))?;
-    let gpu = out
+    let mut gpu = out
         .gpu_pass_ms
         .map_or(String::new(), |ms| format!(", forward pass {ms:.2} ms GPU"));
+    if !out.shadow_pass_ms.is_empty() {
+        let total: f64 = out.shadow_pass_ms.iter().sum();
+        gpu += &format!(
+            ", {} shadow pass(es) {total:.2} ms GPU",
+            out.shadow_pass_ms.len()
+        );
+    }
     eprintln!(
         "penumbra: raster {}x{} MSAA {} on {} in {:.1} ms (frame {:.1} ms{gpu}) -> {}",
         settings.width,
