@@ -1060,6 +1060,100 @@ mod tests {
     use penumbra_shading::bsdf::{Bsdf, Mirror};
     use penumbra_shading::light::{AreaLight, Shape};
 
+    fn project(v: &GpuShadowView, p: Vec3) -> Vec3 {
+        let c = Mat4::from_cols_array_2d(&v.view_proj) * p.extend(1.0);
+        c.truncate() / c.w
+    }
+
+    #[test]
+    fn shadow_views_cover_the_scene_and_the_cones() {
+        use penumbra_scene::SceneLight;
+        use penumbra_shading::light::{DirectionalLight, Light, PointLight, SpotLight};
+        let bounds = (Vec3::new(-3.0, 0.0, -2.0), Vec3::new(4.0, 2.0, 5.0));
+        let spot = SpotLight {
+            position: Vec3::new(0.0, 5.0, 0.0),
+            direction: Vec3::new(0.3, -1.0, 0.1).normalize(),
+            intensity: Vec3::ONE,
+            cos_inner: 0.95,
+            cos_outer: 0.8,
+        };
+        let lights = [
+            Light::Directional(DirectionalLight {
+                direction: Vec3::new(0.5, -1.0, 0.2).normalize(),
+                irradiance: Vec3::ONE,
+            }),
+            Light::Spot(spot),
+            Light::Point(PointLight {
+                position: Vec3::new(1.0, 3.0, 1.0),
+                intensity: Vec3::ONE,
+            }),
+        ]
+        .map(|light| SceneLight {
+            name: String::new(),
+            light,
+        });
+        let (sh, views) = shadow_views(&lights, bounds, 1024, 3, 1.0);
+        assert_eq!(views.len(), 8);
+        let layers: Vec<_> = sh.iter().map(|s| (s.first_layer, s.layer_count)).collect();
+        assert_eq!(layers, [(0, 1), (1, 1), (2, 6)]);
+        // Directional: every corner of the bounds inside the map, depth in
+        // [0, 1], nearer the light = larger (reversed) depth.
+        let (lo, hi) = bounds;
+        for i in 0..8 {
+            let c = Vec3::new(
+                if i & 1 == 0 { lo.x } else { hi.x },
+                if i & 2 == 0 { lo.y } else { hi.y },
+                if i & 4 == 0 { lo.z } else { hi.z },
+            );
+            let n = project(&views[0], c);
+            assert!(n.x.abs() < 1.0 && n.y.abs() < 1.0, "{n}");
+            assert!(n.z > 0.0 && n.z < 1.0, "{n}");
+        }
+        let d = Vec3::new(0.5, -1.0, 0.2).normalize();
+        let centre = 0.5 * (lo + hi);
+        assert!(project(&views[0], centre - d).z > project(&views[0], centre + d).z);
+        // Spot: directions on the outer cone project inside the map.
+        let frame = frame_of(spot.direction);
+        let sin = (1.0 - spot.cos_outer * spot.cos_outer).sqrt();
+        for k in 0..16 {
+            let a = k as f32 * std::f32::consts::TAU / 16.0;
+            let w = spot.cos_outer * spot.direction + sin * (a.cos() * frame.0 + a.sin() * frame.1);
+            let n = project(&views[1], spot.position + 2.0 * w);
+            assert!(n.x.abs() < 1.0 && n.y.abs() < 1.0, "{n}");
+        }
+        // Point: every direction lands inside the face of its major axis.
+        let pos = Vec3::new(1.0, 3.0, 1.0);
+        for w in [
+            Vec3::new(0.9, 0.89, -0.5),
+            Vec3::new(-1.0, 0.2, 0.99),
+            Vec3::new(0.1, 1.0, 0.3),
+            Vec3::new(0.5, -1.0, -0.9),
+            Vec3::new(0.2, 0.3, 1.0),
+            Vec3::new(-0.99, 0.1, -1.0),
+        ] {
+            let a = w.abs();
+            let face = if a.x >= a.y && a.x >= a.z {
+                if w.x >= 0.0 { 0 } else { 1 }
+            } else if a.y >= a.z {
+                if w.y >= 0.0 { 2 } else { 3 }
+            } else if w.z >= 0.0 {
+                4
+            } else {
+                5
+            };
+            let n = project(&views[2 + face], pos + w);
+            assert!(n.x.abs() < 1.0 && n.y.abs() < 1.0, "{w}: {n}");
+            assert!(n.z > 0.0 && n.z < 1.0, "{w}: {n}");
+        }
+    }
+
+    fn frame_of(n: Vec3) -> (Vec3, Vec3) {
+        let t = n
+            .cross(if n.x.abs() < 0.9 { Vec3::X } else { Vec3::Y })
+            .normalize();
+        (t, n.cross(t))
+    }
+
     #[test]
     fn scene_data_warns_about_what_it_approximates() {
         let mut scene = Scene::default();
