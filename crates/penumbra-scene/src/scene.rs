@@ -48,7 +48,8 @@ pub struct Scene {
 }
 
 impl Scene {
-    /// World-space bounds (min, max) of all instances; `None` if empty.
+    /// World-space bounds (min, max) of all instances and analytic area
+    /// lights; `None` if there are none.
     pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
         let mut lo = Vec3::splat(f32::INFINITY);
         let mut hi = Vec3::splat(f32::NEG_INFINITY);
@@ -58,6 +59,11 @@ impl Scene {
                 lo = lo.min(w);
                 hi = hi.max(w);
             }
+        }
+        for l in &self.area_lights {
+            let (a, b) = l.light.shape.bounds();
+            lo = lo.min(a);
+            hi = hi.max(b);
         }
         (lo.x <= hi.x).then_some((lo, hi))
     }

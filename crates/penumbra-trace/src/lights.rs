@@ -7,7 +7,7 @@ use glam::Vec3;
 use penumbra_scene::Scene;
 use penumbra_shading::Rgb;
 use penumbra_shading::color::luminance;
-use penumbra_shading::light::{Environment, LightSample, Shape};
+use penumbra_shading::light::{Environment, LightSample};
 use penumbra_shading::sampling::Distribution1D;
 use penumbra_shading::sampling::square_to_triangle;
 
@@ -60,31 +60,10 @@ pub struct LightSampler {
 impl LightSampler {
     pub fn new(scene: &Scene, geometry: &SceneGeometry) -> Self {
         // Scene radius over the meshes and the analytic area lights.
-        let mut points: Vec<Vec3> = scene.bounds().map_or(Vec::new(), |(lo, hi)| vec![lo, hi]);
-        for l in &scene.area_lights {
-            match l.light.shape {
-                Shape::Sphere { center, radius } | Shape::Disk { center, radius, .. } => {
-                    points.extend([center - Vec3::splat(radius), center + Vec3::splat(radius)]);
-                }
-                Shape::Quad {
-                    corner,
-                    edge1,
-                    edge2,
-                } => points.extend([
-                    corner,
-                    corner + edge1,
-                    corner + edge2,
-                    corner + edge1 + edge2,
-                ]),
-            }
-        }
-        let lo = points.iter().fold(Vec3::INFINITY, |a, &p| a.min(p));
-        let hi = points.iter().fold(Vec3::NEG_INFINITY, |a, &p| a.max(p));
-        let radius = if points.is_empty() {
-            1.0
-        } else {
-            (0.5 * (hi - lo).length()).max(1e-3)
-        };
+        let radius = scene
+            .bounds()
+            .map_or(1.0, |(lo, hi)| 0.5 * (hi - lo).length())
+            .max(1e-3);
         let mut entries = Vec::new();
         let mut weights = Vec::new();
         for (i, l) in scene.lights.iter().enumerate() {
@@ -256,9 +235,7 @@ impl LightSampler {
         };
         self.all.pmf(e as usize) * dist2 / (area * cos)
     }
-}
 
-impl LightSampler {
     /// Solid-angle pdf with which [`LightSampler::sample`] would produce
     /// direction `wi` from `p` towards analytic area light `light` (index
     /// into `Scene::area_lights`), including the selection probability.

@@ -49,6 +49,25 @@ pub struct ShapeHit {
 }
 
 impl Shape {
+    /// An axis-aligned box (min, max) that contains the shape (for a disk,
+    /// the box of the sphere around it).
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        match *self {
+            Shape::Sphere { center, radius } | Shape::Disk { center, radius, .. } => {
+                (center - Vec3::splat(radius), center + Vec3::splat(radius))
+            }
+            Shape::Quad {
+                corner,
+                edge1,
+                edge2,
+            } => {
+                let far = corner + edge1 + edge2;
+                let (a, b) = (corner + edge1, corner + edge2);
+                (corner.min(far).min(a).min(b), corner.max(far).max(a).max(b))
+            }
+        }
+    }
+
     pub fn area(&self) -> f32 {
         match *self {
             Shape::Sphere { radius, .. } => 4.0 * PI * radius * radius,

@@ -8,7 +8,6 @@
 use super::{PathSample, TraceContext};
 use crate::lights::emitted;
 use crate::ray::Ray;
-use penumbra_shading::Rgb;
 use penumbra_shading::sampling::Sampler;
 
 pub fn li(ctx: &TraceContext, ray: &Ray, sampler: &mut Sampler) -> PathSample {
@@ -29,25 +28,7 @@ pub fn li(ctx: &TraceContext, ray: &Ray, sampler: &mut Sampler) -> PathSample {
     let shading = ctx.shading(&hit, wo);
     let mut out = ctx.first_hit_aovs(shading.as_ref(), &hit);
     if let Some(s) = shading {
-        let mut add = |wi: glam::Vec3, value: Rgb| {
-            let wl = s.frame.to_local(wi);
-            if TraceContext::consistent_side(&s, wi, wl) {
-                radiance += s.bsdf.eval(s.wo_local, wl) * value * wl.z.abs();
-            }
-        };
-        for l in &ctx.scene.lights {
-            if let Some(ls) = l.light.sample_li(s.hit.p) {
-                add(ls.wi, ls.value);
-            }
-        }
-        let [u_sel, _] = sampler.next_2d();
-        let u = sampler.next_2d();
-        if let Some(c) = ctx
-            .lights
-            .sample_area(ctx.scene, ctx.geometry, s.hit.p, u_sel, u)
-        {
-            add(c.sample.wi, c.sample.value / c.select_pdf);
-        }
+        radiance += ctx.direct_light(&s, sampler, false);
     }
     out.radiance = radiance;
     out

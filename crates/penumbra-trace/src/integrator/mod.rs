@@ -131,6 +131,48 @@ impl TraceContext<'_> {
         !self.geometry.occluded(&self.spawn(s, wi, tmax))
     }
 
+    /// Direct light at `s` from the non-delta lobes: every abstract light
+    /// exactly, plus one sample of the lights with extent (emissive
+    /// triangles, analytic area lights, environment). With `shadow_rays` each
+    /// contribution is tested for visibility (`whitted`); without, it is the
+    /// notes' local illumination (`local`).
+    pub(crate) fn direct_light(
+        &self,
+        s: &Shading,
+        sampler: &mut Sampler,
+        shadow_rays: bool,
+    ) -> Rgb {
+        let mut sum = Rgb::ZERO;
+        let mut add = |wi: Vec3, distance: f32, value: Rgb| {
+            let wl = s.frame.to_local(wi);
+            if !Self::consistent_side(s, wi, wl) {
+                return;
+            }
+            let f = s.bsdf.eval(s.wo_local, wl);
+            if f != Rgb::ZERO && (!shadow_rays || self.visible(s, wi, distance)) {
+                sum += f * value * wl.z.abs();
+            }
+        };
+        for l in &self.scene.lights {
+            if let Some(ls) = l.light.sample_li(s.hit.p) {
+                add(ls.wi, ls.distance, ls.value);
+            }
+        }
+        let [u_sel, _] = sampler.next_2d();
+        let u = sampler.next_2d();
+        if let Some(c) = self
+            .lights
+            .sample_area(self.scene, self.geometry, s.hit.p, u_sel, u)
+        {
+            add(
+                c.sample.wi,
+                c.sample.distance,
+                c.sample.value / c.select_pdf,
+            );
+        }
+        sum
+    }
+
     /// AOVs of a first hit.
     pub(crate) fn first_hit_aovs(&self, s: Option<&Shading>, hit: &SurfaceHit) -> PathSample {
         PathSample {

@@ -89,11 +89,13 @@ pub fn li(
         // skipped for purely specular surfaces, whose eval is 0 everywhere.
         let [u_sel, _] = sampler.next_2d();
         let u_light = sampler.next_2d();
-        if !s.bsdf.flags().non_delta {
-        } else if let Some(chosen) =
+        let chosen = if s.bsdf.flags().non_delta {
             ctx.lights
                 .sample(ctx.scene, ctx.geometry, s.hit.p, u_sel, u_light)
-        {
+        } else {
+            None
+        };
+        if let Some(chosen) = chosen {
             let ls = chosen.sample;
             let wi_local = s.frame.to_local(ls.wi);
             let cos = wi_local.z.abs();

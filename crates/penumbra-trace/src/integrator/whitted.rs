@@ -13,7 +13,7 @@
 //! `path` (`max_depth` 1 = emitters only, 2 = direct light, each delta bounce
 //! one more), so both integrators agree on purely specular scenes.
 
-use super::{PathSample, Shading, TraceContext};
+use super::{PathSample, TraceContext};
 use crate::lights::emitted;
 use crate::ray::Ray;
 use penumbra_shading::Rgb;
@@ -76,7 +76,7 @@ fn trace(
         return radiance;
     }
     if s.bsdf.flags().non_delta {
-        radiance += direct_light(ctx, &s, sampler);
+        radiance += ctx.direct_light(&s, sampler, true);
     }
     for (wi_local, throughput) in s.bsdf.specular(s.wo_local).iter() {
         let wi = s.frame.to_world(wi_local);
@@ -87,40 +87,6 @@ fn trace(
         radiance += throughput * trace(ctx, &next, sampler, depth + 1, &mut None);
     }
     radiance
-}
-
-/// Σ over abstract lights (exact) + one sample of the area lights and the
-/// environment, with shadow rays.
-fn direct_light(ctx: &TraceContext, s: &Shading, sampler: &mut Sampler) -> Rgb {
-    let mut sum = Rgb::ZERO;
-    let mut add = |wi: glam::Vec3, distance: f32, value: Rgb| {
-        let wl = s.frame.to_local(wi);
-        if !TraceContext::consistent_side(s, wi, wl) {
-            return;
-        }
-        let f = s.bsdf.eval(s.wo_local, wl);
-        if f != Rgb::ZERO && ctx.visible(s, wi, distance) {
-            sum += f * value * wl.z.abs();
-        }
-    };
-    for l in &ctx.scene.lights {
-        if let Some(ls) = l.light.sample_li(s.hit.p) {
-            add(ls.wi, ls.distance, ls.value);
-        }
-    }
-    let [u_sel, _] = sampler.next_2d();
-    let u = sampler.next_2d();
-    if let Some(c) = ctx
-        .lights
-        .sample_area(ctx.scene, ctx.geometry, s.hit.p, u_sel, u)
-    {
-        add(
-            c.sample.wi,
-            c.sample.distance,
-            c.sample.value / c.select_pdf,
-        );
-    }
-    sum
 }
 
 #[cfg(test)]
