@@ -35,7 +35,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     for _ in 0..n.max(1) {
         let out = renderer.render(&ctx, &scene, &camera, w, h)?;
         frame.push(out.frame_ms);
-        gpu.extend(out.gpu_pass_ms);
+        gpu.extend(penumbra_raster::total_ms(&out.passes, "forward"));
     }
     let median = |v: &mut Vec<f64>| {
         v.sort_by(f64::total_cmp);

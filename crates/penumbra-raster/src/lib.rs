@@ -11,16 +11,24 @@
 //! draws a scene into an `Rgba32Float` target and reads it back as a
 //! [`penumbra_image::Image`].
 
+pub mod camera;
 pub mod context;
 pub mod gpu;
 pub mod renderer;
+pub mod scene_data;
 pub mod shaders;
+pub mod shadow_map;
+pub mod timing;
 
 pub use wgpu;
 
+pub use camera::{gpu_camera, view_projection};
 pub use context::{AdapterSummary, GpuContext, GpuError, SOFTWARE_VULKAN_PACKAGES};
 pub use renderer::{
-    DEFAULT_NORMAL_OFFSET, DEFAULT_SHADOW_MAP_SIZE, DEFAULT_SLOPE_BIAS, ForwardRenderer, MAX_PCF,
-    RasterOptions, RasterOutput, SceneData, ShadowMode, gpu_camera, map_read, render_scene,
-    shadow_views, view_projection,
+    ForwardRenderer, MAX_PCF, RasterOptions, RasterOutput, ShadowMode, map_read, render_scene,
 };
+pub use scene_data::SceneData;
+pub use shadow_map::{
+    DEFAULT_NORMAL_OFFSET, DEFAULT_SHADOW_MAP_SIZE, DEFAULT_SLOPE_BIAS, shadow_views,
+};
+pub use timing::{GpuTimer, PassTiming, total_ms};

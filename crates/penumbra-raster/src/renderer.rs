@@ -2,21 +2,25 @@
 //! buffer (reversed z), one draw per instance into an `Rgba32Float` target at
 //! the settings' resolution, read back into a [`penumbra_image::Image`].
 
+use crate::camera::gpu_camera;
 use crate::context::{GpuContext, GpuError};
-use crate::gpu::{GpuCamera, GpuInstance, GpuLight, GpuMaterial, GpuShadow, GpuShadowView};
+use crate::gpu::{GpuInstance, GpuLight, GpuShadow, GpuShadowView};
+use crate::scene_data::SceneData;
 use crate::shaders::forward_source;
-use glam::{Mat4, Vec3, Vec4};
+use crate::shadow_map::{
+    DEFAULT_NORMAL_OFFSET, DEFAULT_SHADOW_MAP_SIZE, DEFAULT_SLOPE_BIAS, SHADOW_CONSTANT_BIAS,
+    shadow_views,
+};
+use crate::timing::{GpuTimer, PassTiming};
+use glam::Vec3;
 use penumbra_image::Image;
 use penumbra_scene::Scene;
-use penumbra_scene::camera::{Camera, Projection};
+use penumbra_scene::camera::Camera;
 use std::time::Instant;
 use wgpu::util::DeviceExt;
 
 const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
-/// Constant part of the shadow passes' depth bias, in units of the depth
-/// format's precision at the triangle's depth.
-const SHADOW_CONSTANT_BIAS: i32 = 16;
 
 /// How the raster path shadows the abstract lights.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -29,14 +33,6 @@ pub enum ShadowMode {
     /// perspective cube faces for point lights.
     Map,
 }
-
-/// Default edge of a shadow map in texels.
-pub const DEFAULT_SHADOW_MAP_SIZE: u32 = 2048;
-/// Default slope-scaled depth bias of the shadow passes, in units of the
-/// depth slope of the occluder's triangle per texel (rasteriser state).
-pub const DEFAULT_SLOPE_BIAS: f32 = 1.5;
-/// Default normal offset of the shadow lookup, in shadow-map texels.
-pub const DEFAULT_NORMAL_OFFSET: f32 = 1.0;
 
 /// Options of the raster path.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -72,145 +68,6 @@ impl Default for RasterOptions {
 /// Largest PCF kernel edge.
 pub const MAX_PCF: u32 = 15;
 
-/// Right-handed world-to-view transform of an eye at `eye` looking along
-/// `dir` (view −z) with `up` roughly view +y.
-fn look_to(eye: Vec3, dir: Vec3, up: Vec3) -> Mat4 {
-    let f = dir.normalize();
-    let s = f.cross(up).normalize();
-    let u = s.cross(f);
-    Mat4::from_cols(
-        Vec4::new(s.x, u.x, -f.x, 0.0),
-        Vec4::new(s.y, u.y, -f.y, 0.0),
-        Vec4::new(s.z, u.z, -f.z, 0.0),
-        Vec4::new(-s.dot(eye), -u.dot(eye), f.dot(eye), 1.0),
-    )
-}
-
-/// The shadow-map views of the scene's lights: one [`GpuShadow`] per light
-/// and one [`GpuShadowView`] per layer of the shadow-map array.
-///
-/// Every view stores reversed depth (1 near the light). Directional lights:
-/// an orthographic view along the light fitted to the eight corners of the
-/// scene bounds. Spot lights: an infinite reversed perspective along the
-/// spot axis whose square frustum contains the outer cone (a cone wider than
-/// 170° is clamped to 170°). Point lights: six 90° faces looking along ±x,
-/// ±y, ±z (a depth "cube" stored as six array layers with their own
-/// view-projections; the shader picks the face of the major axis). The
-/// perspective frusta are widened by the PCF kernel's half-width plus a
-/// texel so that taps near a face edge stay inside the face.
-pub fn shadow_views(
-    lights: &[penumbra_scene::SceneLight],
-    bounds: (Vec3, Vec3),
-    size: u32,
-    pcf: u32,
-    normal_offset: f32,
-) -> (Vec<GpuShadow>, Vec<GpuShadowView>) {
-    use penumbra_shading::light::Light;
-    let (lo, hi) = bounds;
-    let centre = 0.5 * (lo + hi);
-    let radius = (0.5 * (hi - lo).length()).max(1e-4);
-    let size_f = size as f32;
-    let margin = (pcf / 2 + 1) as f32;
-    let widen = size_f / (size_f - 2.0 * margin).max(1.0);
-    let mut shadows = Vec::with_capacity(lights.len());
-    let mut views = Vec::new();
-    let up_for = |axis: Vec3| {
-        if axis.y.abs() > 0.99 {
-            Vec3::Z
-        } else {
-            Vec3::Y
-        }
-    };
-    // Reversed infinite perspective (depth = near / distance along the axis).
-    let perspective = |pos: Vec3, axis: Vec3, tan_half: f32| {
-        let near = radius * 1e-4;
-        let f = 1.0 / tan_half;
-        let proj = Mat4::from_cols(
-            Vec4::new(f, 0.0, 0.0, 0.0),
-            Vec4::new(0.0, f, 0.0, 0.0),
-            Vec4::new(0.0, 0.0, 0.0, -1.0),
-            Vec4::new(0.0, 0.0, near, 0.0),
-        );
-        GpuShadowView {
-            view_proj: (proj * look_to(pos, axis, up_for(axis))).to_cols_array_2d(),
-            axis: axis.extend(0.0).to_array(),
-        }
-    };
-    for l in lights {
-        let first_layer = views.len() as u32;
-        let mut sh = GpuShadow {
-            first_layer,
-            pcf,
-            normal_offset,
-            map_size: size_f,
-            ..GpuShadow::default()
-        };
-        match &l.light {
-            Light::Directional(d) => {
-                let axis = d.direction.normalize();
-                let eye = centre - axis * (2.0 * radius);
-                let view = look_to(eye, axis, up_for(axis));
-                let mut vlo = Vec3::splat(f32::INFINITY);
-                let mut vhi = Vec3::splat(f32::NEG_INFINITY);
-                for i in 0..8 {
-                    let c = Vec3::new(
-                        if i & 1 == 0 { lo.x } else { hi.x },
-                        if i & 2 == 0 { lo.y } else { hi.y },
-                        if i & 4 == 0 { lo.z } else { hi.z },
-                    );
-                    let v = view.transform_point3(c);
-                    vlo = vlo.min(v);
-                    vhi = vhi.max(v);
-                }
-                // A square texel grid over the fitted rectangle, a margin of
-                // the PCF half-width around it.
-                let extent = (vhi.x - vlo.x).max(vhi.y - vlo.y).max(1e-4) * widen;
-                let mid = 0.5 * (vlo + vhi);
-                let pad = 1e-3 * radius;
-                let (zn, zf) = (vhi.z + pad, vlo.z - pad);
-                let s = 2.0 / extent;
-                let proj = Mat4::from_cols(
-                    Vec4::new(s, 0.0, 0.0, 0.0),
-                    Vec4::new(0.0, s, 0.0, 0.0),
-                    Vec4::new(0.0, 0.0, 1.0 / (zn - zf), 0.0),
-                    Vec4::new(-s * mid.x, -s * mid.y, -zf / (zn - zf), 1.0),
-                );
-                views.push(GpuShadowView {
-                    view_proj: (proj * view).to_cols_array_2d(),
-                    axis: axis.extend(0.0).to_array(),
-                });
-                sh.layer_count = 1;
-                sh.texel = extent / size_f;
-            }
-            Light::Spot(sp) => {
-                let c = sp.cos_outer.clamp(85f32.to_radians().cos(), 1.0 - 1e-6);
-                let tan_half = (1.0 - c * c).sqrt() / c * widen;
-                views.push(perspective(sp.position, sp.direction.normalize(), tan_half));
-                sh.layer_count = 1;
-                sh.perspective = 1;
-                sh.texel = 2.0 * tan_half / size_f;
-            }
-            Light::Point(pt) => {
-                for axis in [
-                    Vec3::X,
-                    Vec3::NEG_X,
-                    Vec3::Y,
-                    Vec3::NEG_Y,
-                    Vec3::Z,
-                    Vec3::NEG_Z,
-                ] {
-                    views.push(perspective(pt.position, axis, widen));
-                }
-                sh.layer_count = 6;
-                sh.perspective = 1;
-                sh.texel = 2.0 * widen / size_f;
-            }
-        }
-        shadows.push(sh);
-    }
-    (shadows, views)
-}
-
 /// A finished raster render.
 #[derive(Clone, Debug)]
 pub struct RasterOutput {
@@ -221,173 +78,12 @@ pub struct RasterOutput {
     /// Wall time from submitting the pass to the end of its execution [ms]
     /// (the queue is polled until idle).
     pub frame_ms: f64,
-    /// GPU time of the forward pass from timestamp queries [ms], where the
-    /// adapter supports them.
-    pub gpu_pass_ms: Option<f64>,
-    /// GPU time of each shadow pass (one per shadow-map layer: one per
-    /// directional or spot light, six per point light) [ms], where the
-    /// adapter supports timestamp queries; empty otherwise.
-    pub shadow_pass_ms: Vec<f64>,
+    /// GPU time of every pass in submission order (names: `"shadow map
+    /// L"` per shadow-map layer, `"forward"`), where the adapter supports
+    /// timestamp queries; empty otherwise.
+    pub passes: Vec<PassTiming>,
     /// What the raster path approximated for this scene (see [`SceneData`]).
     pub warnings: Vec<String>,
-}
-
-/// The scene as the forward pass sees it, and what it approximates.
-#[derive(Clone, Debug, Default)]
-pub struct SceneData {
-    pub lights: Vec<GpuLight>,
-    pub materials: Vec<GpuMaterial>,
-    pub instances: Vec<GpuInstance>,
-    /// What the raster path renders differently from the CPU `local`
-    /// integrator for this scene.
-    pub warnings: Vec<String>,
-}
-
-impl SceneData {
-    pub fn from_scene(scene: &Scene) -> Self {
-        let mut warnings = Vec::new();
-        let mut materials = Vec::with_capacity(scene.materials.len());
-        for m in &scene.materials {
-            let (g, exact) = GpuMaterial::from_bsdf(&m.bsdf, m.emission, m.double_sided);
-            if !exact {
-                warnings.push(format!(
-                    "raster: material '{}' ({}) has no WGSL twin yet; shaded as Lambert with its albedo",
-                    m.name,
-                    bsdf_name(&m.bsdf)
-                ));
-            }
-            if m.albedo_texture.is_some() || m.metallic_roughness_texture.is_some() {
-                warnings.push(format!(
-                    "raster: material '{}': textures are ignored (untextured factors used)",
-                    m.name
-                ));
-            }
-            materials.push(g);
-        }
-        if materials.is_empty() {
-            // Storage bindings cannot be empty.
-            materials.push(GpuMaterial::default());
-        }
-        let instances = scene
-            .instances
-            .iter()
-            .map(|inst| {
-                let material = inst.material.unwrap_or(scene.meshes[inst.mesh].material);
-                GpuInstance::new(
-                    inst.transform,
-                    inst.normal_matrix(),
-                    material as u32,
-                    scene.meshes[inst.mesh].normals.is_some(),
-                )
-            })
-            .collect();
-        let lights: Vec<GpuLight> = scene
-            .lights
-            .iter()
-            .map(|l| GpuLight::from_light(&l.light))
-            .collect();
-        if !scene.area_lights.is_empty() {
-            warnings.push(format!(
-                "raster: {} analytic area light(s) are neither drawn nor lit from (abstract lights only)",
-                scene.area_lights.len()
-            ));
-        }
-        if scene.materials.iter().any(|m| m.is_emissive()) {
-            warnings.push(
-                "raster: emissive surfaces are drawn with their emission but do not light other surfaces"
-                    .to_string(),
-            );
-        }
-        if scene.environment_map.is_some() {
-            warnings.push(
-                "raster: the environment map is not drawn or lit from; the background colour is used"
-                    .to_string(),
-            );
-        }
-        Self {
-            lights,
-            materials,
-            instances,
-            warnings,
-        }
-    }
-}
-
-fn bsdf_name(b: &penumbra_shading::bsdf::Bsdf) -> &'static str {
-    use penumbra_shading::bsdf::Bsdf;
-    match b {
-        Bsdf::Lambert(_) => "Lambert",
-        Bsdf::PhongBlinn(_) => "Phong-Blinn",
-        Bsdf::Mirror(_) => "mirror",
-        Bsdf::Conductor(_) => "conductor",
-        Bsdf::Dielectric(_) => "dielectric",
-        Bsdf::RoughConductor(_) => "rough conductor",
-        Bsdf::RoughDielectric(_) => "rough dielectric",
-        Bsdf::MetallicRoughness(_) => "metallic-roughness",
-    }
-}
-
-/// View-projection of `camera` for a `width`×`height` image with reversed
-/// depth (1 at the near plane, 0 at the far plane or infinity). Pixel
-/// centres map to the same points as `Camera::generate_ray(x + ½, y + ½)`:
-/// both use NDC x = 2 sx / width − 1, y = 1 − 2 sy / height.
-pub fn view_projection(camera: &Camera, width: u32, height: u32, bounds: (Vec3, Vec3)) -> Mat4 {
-    let aspect = width as f32 / height as f32;
-    let view = camera.camera_to_world.inverse();
-    let (lo, hi) = bounds;
-    let centre = 0.5 * (lo + hi);
-    let radius = (0.5 * (hi - lo).length()).max(1e-6);
-    let proj = match camera.projection {
-        Projection::Perspective { fov_y } => {
-            let dist = (camera.position() - centre).length();
-            // Reversed float depth keeps precision far away, so the near
-            // plane can sit well in front of the scene.
-            let near = ((dist - radius) * 0.5).max(radius * 1e-5).max(1e-6);
-            // Right-handed, infinite far plane, depth = near / −z_view.
-            let f = 1.0 / (0.5 * fov_y).tan();
-            Mat4::from_cols(
-                Vec4::new(f / aspect, 0.0, 0.0, 0.0),
-                Vec4::new(0.0, f, 0.0, 0.0),
-                Vec4::new(0.0, 0.0, 0.0, -1.0),
-                Vec4::new(0.0, 0.0, near, 0.0),
-            )
-        }
-        Projection::Orthographic { height } => {
-            // Rays start on the camera plane (z = 0), as the CPU's.
-            let z_centre = view.transform_point3(centre).z;
-            let far = (-z_centre + radius) * 1.01 + 1e-4;
-            let far = far.max(1e-4);
-            Mat4::from_cols(
-                Vec4::new(2.0 / (height * aspect), 0.0, 0.0, 0.0),
-                Vec4::new(0.0, 2.0 / height, 0.0, 0.0),
-                Vec4::new(0.0, 0.0, 1.0 / far, 0.0),
-                Vec4::new(0.0, 0.0, 1.0, 1.0),
-            )
-        }
-    };
-    proj * view
-}
-
-/// The camera constants of a frame.
-pub fn gpu_camera(
-    camera: &Camera,
-    width: u32,
-    height: u32,
-    bounds: (Vec3, Vec3),
-    light_count: u32,
-) -> GpuCamera {
-    let back = camera
-        .camera_to_world
-        .transform_vector3(Vec3::Z)
-        .normalize();
-    let ortho = matches!(camera.projection, Projection::Orthographic { .. });
-    GpuCamera {
-        view_proj: view_projection(camera, width, height, bounds).to_cols_array_2d(),
-        eye: camera.position().extend(1.0).to_array(),
-        back: back.extend(if ortho { 1.0 } else { 0.0 }).to_array(),
-        light_count,
-        ..GpuCamera::default()
-    }
 }
 
 struct GpuMesh {
@@ -830,30 +526,8 @@ impl ForwardRenderer {
             .map(|t| t.create_view(&Default::default()));
         let depth_view = depth.create_view(&Default::default());
 
-        let timestamps = device.features().contains(wgpu::Features::TIMESTAMP_QUERY);
-        // Queries 0, 1: the forward pass; 2 + 2l, 3 + 2l: shadow layer l.
-        let query_count = 2 + 2 * layers;
-        let query_bytes = 8 * query_count as u64;
-        let query = timestamps.then(|| {
-            let set = device.create_query_set(&wgpu::QuerySetDescriptor {
-                label: Some("forward and shadow passes"),
-                ty: wgpu::QueryType::Timestamp,
-                count: query_count,
-            });
-            let resolve = device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("timestamps"),
-                size: query_bytes,
-                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-                mapped_at_creation: false,
-            });
-            let read = device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("timestamps read"),
-                size: query_bytes,
-                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            });
-            (set, resolve, read)
-        });
+        // One timed pass per shadow-map layer, plus the forward pass.
+        let timer = GpuTimer::new(ctx, layers + 1);
 
         let bytes_per_row = (width * 16).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
             * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
@@ -885,13 +559,7 @@ impl ForwardRenderer {
                     }),
                     stencil_ops: None,
                 }),
-                timestamp_writes: query.as_ref().map(|(set, _, _)| {
-                    wgpu::RenderPassTimestampWrites {
-                        query_set: set,
-                        beginning_of_pass_write_index: Some(2 + 2 * layer),
-                        end_of_pass_write_index: Some(3 + 2 * layer),
-                    }
-                }),
+                timestamp_writes: timer.render_pass(&format!("shadow map {layer}")),
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
@@ -936,13 +604,7 @@ impl ForwardRenderer {
                     }),
                     stencil_ops: None,
                 }),
-                timestamp_writes: query.as_ref().map(|(set, _, _)| {
-                    wgpu::RenderPassTimestampWrites {
-                        query_set: set,
-                        beginning_of_pass_write_index: Some(0),
-                        end_of_pass_write_index: Some(1),
-                    }
-                }),
+                timestamp_writes: timer.render_pass("forward"),
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
@@ -962,10 +624,7 @@ impl ForwardRenderer {
                 pass.draw_indexed(0..mesh.index_count, 0, i..i + 1);
             }
         }
-        if let Some((set, resolve, read)) = &query {
-            encoder.resolve_query_set(set, 0..query_count, resolve, 0);
-            encoder.copy_buffer_to_buffer(resolve, 0, read, 0, query_bytes);
-        }
+        timer.resolve(&mut encoder);
         encoder.copy_texture_to_buffer(
             wgpu::TexelCopyTextureInfo {
                 texture: &resolved,
@@ -995,27 +654,14 @@ impl ForwardRenderer {
                 bytemuck::cast_slice(&bytes[y * bytes_per_row as usize..][..width as usize * 16]);
             pixels.extend(row.chunks_exact(4).map(|p| Vec3::new(p[0], p[1], p[2])));
         }
-        let (gpu_pass_ms, shadow_pass_ms) = match &query {
-            Some((_, _, read)) => {
-                let ts = map_read(ctx, read)?;
-                let t: &[u64] = bytemuck::cast_slice(&ts);
-                let period = ctx.queue.get_timestamp_period() as f64;
-                let ms = |a: usize| t[a + 1].saturating_sub(t[a]) as f64 * period * 1e-6;
-                (
-                    Some(ms(0)),
-                    (0..layers as usize).map(|l| ms(2 + 2 * l)).collect(),
-                )
-            }
-            None => (None, Vec::new()),
-        };
+        let passes = timer.read(ctx)?;
         let image =
             Image::from_pixels(width, height, pixels).map_err(|e| GpuError::Wgpu(e.to_string()))?;
         Ok(RasterOutput {
             image,
             total_ms: start.elapsed().as_secs_f64() * 1e3,
             frame_ms,
-            gpu_pass_ms,
-            shadow_pass_ms,
+            passes,
             warnings: data.warnings,
         })
     }
@@ -1051,139 +697,4 @@ pub fn render_scene(
     let renderer = ForwardRenderer::new(&ctx, options)?;
     let out = renderer.render(&ctx, scene, camera, width, height)?;
     Ok((out, ctx.summary.clone()))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use penumbra_scene::{Material, SceneAreaLight, primitives};
-    use penumbra_shading::bsdf::{Bsdf, Mirror};
-    use penumbra_shading::light::{AreaLight, Shape};
-
-    fn project(v: &GpuShadowView, p: Vec3) -> Vec3 {
-        let c = Mat4::from_cols_array_2d(&v.view_proj) * p.extend(1.0);
-        c.truncate() / c.w
-    }
-
-    #[test]
-    fn shadow_views_cover_the_scene_and_the_cones() {
-        use penumbra_scene::SceneLight;
-        use penumbra_shading::light::{DirectionalLight, Light, PointLight, SpotLight};
-        let bounds = (Vec3::new(-3.0, 0.0, -2.0), Vec3::new(4.0, 2.0, 5.0));
-        let spot = SpotLight {
-            position: Vec3::new(0.0, 5.0, 0.0),
-            direction: Vec3::new(0.3, -1.0, 0.1).normalize(),
-            intensity: Vec3::ONE,
-            cos_inner: 0.95,
-            cos_outer: 0.8,
-        };
-        let lights = [
-            Light::Directional(DirectionalLight {
-                direction: Vec3::new(0.5, -1.0, 0.2).normalize(),
-                irradiance: Vec3::ONE,
-            }),
-            Light::Spot(spot),
-            Light::Point(PointLight {
-                position: Vec3::new(1.0, 3.0, 1.0),
-                intensity: Vec3::ONE,
-            }),
-        ]
-        .map(|light| SceneLight {
-            name: String::new(),
-            light,
-        });
-        let (sh, views) = shadow_views(&lights, bounds, 1024, 3, 1.0);
-        assert_eq!(views.len(), 8);
-        let layers: Vec<_> = sh.iter().map(|s| (s.first_layer, s.layer_count)).collect();
-        assert_eq!(layers, [(0, 1), (1, 1), (2, 6)]);
-        // Directional: every corner of the bounds inside the map, depth in
-        // [0, 1], nearer the light = larger (reversed) depth.
-        let (lo, hi) = bounds;
-        for i in 0..8 {
-            let c = Vec3::new(
-                if i & 1 == 0 { lo.x } else { hi.x },
-                if i & 2 == 0 { lo.y } else { hi.y },
-                if i & 4 == 0 { lo.z } else { hi.z },
-            );
-            let n = project(&views[0], c);
-            assert!(n.x.abs() < 1.0 && n.y.abs() < 1.0, "{n}");
-            assert!(n.z > 0.0 && n.z < 1.0, "{n}");
-        }
-        let d = Vec3::new(0.5, -1.0, 0.2).normalize();
-        let centre = 0.5 * (lo + hi);
-        assert!(project(&views[0], centre - d).z > project(&views[0], centre + d).z);
-        // Spot: directions on the outer cone project inside the map.
-        let frame = frame_of(spot.direction);
-        let sin = (1.0 - spot.cos_outer * spot.cos_outer).sqrt();
-        for k in 0..16 {
-            let a = k as f32 * std::f32::consts::TAU / 16.0;
-            let w = spot.cos_outer * spot.direction + sin * (a.cos() * frame.0 + a.sin() * frame.1);
-            let n = project(&views[1], spot.position + 2.0 * w);
-            assert!(n.x.abs() < 1.0 && n.y.abs() < 1.0, "{n}");
-        }
-        // Point: every direction lands inside the face of its major axis.
-        let pos = Vec3::new(1.0, 3.0, 1.0);
-        for w in [
-            Vec3::new(0.9, 0.89, -0.5),
-            Vec3::new(-1.0, 0.2, 0.99),
-            Vec3::new(0.1, 1.0, 0.3),
-            Vec3::new(0.5, -1.0, -0.9),
-            Vec3::new(0.2, 0.3, 1.0),
-            Vec3::new(-0.99, 0.1, -1.0),
-        ] {
-            let a = w.abs();
-            let face = if a.x >= a.y && a.x >= a.z {
-                if w.x >= 0.0 { 0 } else { 1 }
-            } else if a.y >= a.z {
-                if w.y >= 0.0 { 2 } else { 3 }
-            } else if w.z >= 0.0 {
-                4
-            } else {
-                5
-            };
-            let n = project(&views[2 + face], pos + w);
-            assert!(n.x.abs() < 1.0 && n.y.abs() < 1.0, "{w}: {n}");
-            assert!(n.z > 0.0 && n.z < 1.0, "{w}: {n}");
-        }
-    }
-
-    fn frame_of(n: Vec3) -> (Vec3, Vec3) {
-        let t = n
-            .cross(if n.x.abs() < 0.9 { Vec3::X } else { Vec3::Y })
-            .normalize();
-        (t, n.cross(t))
-    }
-
-    #[test]
-    fn scene_data_warns_about_what_it_approximates() {
-        let mut scene = Scene::default();
-        let lambert = scene.add_material(Material::lambert("white", Vec3::ONE));
-        let mut mesh = primitives::sphere(Vec3::ZERO, 1.0, 4);
-        mesh.material = lambert;
-        scene.add_mesh(mesh, Mat4::IDENTITY);
-        let data = SceneData::from_scene(&scene);
-        assert!(data.warnings.is_empty(), "{:?}", data.warnings);
-        assert_eq!((data.instances.len(), data.materials.len()), (1, 1));
-
-        scene.add_material(Material {
-            bsdf: Bsdf::Mirror(Mirror::new(Vec3::ONE)),
-            ..Material::lambert("chrome", Vec3::ONE)
-        });
-        scene.add_material(Material::emitter("lamp", Vec3::splat(5.0)));
-        scene.area_lights.push(SceneAreaLight {
-            name: "ball".into(),
-            light: AreaLight {
-                shape: Shape::Sphere {
-                    center: Vec3::Y,
-                    radius: 0.1,
-                },
-                radiance: Vec3::ONE,
-                two_sided: false,
-            },
-        });
-        let w = SceneData::from_scene(&scene).warnings.join("\n");
-        assert!(w.contains("'chrome' (mirror)"), "{w}");
-        assert!(w.contains("area light"), "{w}");
-        assert!(w.contains("emissive"), "{w}");
-    }
 }

@@ -107,7 +107,13 @@ fn raster(ctx: &GpuContext, scene: &Scene, options: RasterOptions) -> (Image, Ve
     let r = ForwardRenderer::new(ctx, options).expect("renderer");
     let out = r.render(ctx, scene, &camera(), RES, RES).expect("render");
     assert!(out.image.all_finite());
-    (out.image, out.shadow_pass_ms)
+    let shadow_ms = out
+        .passes
+        .iter()
+        .filter(|p| p.name.starts_with("shadow map"))
+        .map(|p| p.ms)
+        .collect();
+    (out.image, shadow_ms)
 }
 
 /// Shadowed where `shadowed` < ½ · `unshadowed`.

@@ -263,16 +263,13 @@ fn render_raster(
     }
     write_image(&args.output, &out.image, &[], tm)
         .with_context(|| format!("writing {}", args.output.display()))?;
-    let mut gpu = out
-        .gpu_pass_ms
-        .map_or(String::new(), |ms| format!(", forward pass {ms:.2} ms GPU"));
-    if !out.shadow_pass_ms.is_empty() {
-        let total: f64 = out.shadow_pass_ms.iter().sum();
-        gpu += &format!(
-            ", {} shadow pass(es) {total:.2} ms GPU",
-            out.shadow_pass_ms.len()
-        );
-    }
+    let gpu: String = penumbra_raster::timing::by_kind(&out.passes)
+        .iter()
+        .map(|(kind, n, ms)| match n {
+            1 => format!(", {kind} {ms:.2} ms GPU"),
+            _ => format!(", {n} {kind} passes {ms:.2} ms GPU"),
+        })
+        .collect();
     eprintln!(
         "penumbra: raster {}x{} MSAA {} on {} in {:.1} ms (frame {:.1} ms{gpu}) -> {}",
         settings.width,

@@ -149,13 +149,29 @@ fn vs_main(
     return out;
 }
 
-@fragment
-fn fs_main(in: VsOut, @builtin(front_facing) facing: bool) -> @location(0) vec4<f32> {
+// What the lights need of a shaded fragment.
+struct Surface {
+    p: vec3<f32>,
+    // Geometric normal on the viewer's side.
+    ng: vec3<f32>,
+    frame: Frame,
+    wo_local: vec3<f32>,
+    material: u32,
+    // Emission towards the viewer.
+    emission: vec3<f32>,
+    // 0: the back of a one-sided surface (emission only, no light).
+    lit: u32,
+}
+
+// The fragment as a surface. ng_raw = cross(dpdx(p), dpdy(p)), taken by the
+// entry point (derivatives need uniform control flow).
+fn surface_of(in: VsOut, facing: bool, ng_raw: vec3<f32>) -> Surface {
     let p = in.world;
-    // Geometric normal of the triangle (derivatives in uniform control flow).
-    let ng_raw = cross(dpdx(p), dpdy(p));
     let inst = instances[in.instance];
     let mat = materials[inst.material];
+    var s: Surface;
+    s.p = p;
+    s.material = inst.material;
 
     var wo: vec3<f32>;
     if camera.back.w > 0.5 {
@@ -166,14 +182,11 @@ fn fs_main(in: VsOut, @builtin(front_facing) facing: bool) -> @location(0) vec4<
     // Front side as the CPU defines it: the object-space winding, kept
     // through mirroring transforms.
     let front = facing != (inst.flip_winding != 0u);
-
-    var radiance = vec3<f32>(0.0);
+    s.emission = vec3<f32>(0.0);
     if front || mat.double_sided != 0u {
-        radiance = mat.emission;
+        s.emission = mat.emission;
     }
-    if !front && mat.double_sided == 0u {
-        return vec4<f32>(radiance, 1.0);
-    }
+    s.lit = select(0u, 1u, front || mat.double_sided != 0u);
 
     // Normals on the visible side, the shading normal on the side of ng.
     var ng = ng_raw;
@@ -186,6 +199,7 @@ fn fs_main(in: VsOut, @builtin(front_facing) facing: bool) -> @location(0) vec4<
     if dot(ng, wo) < 0.0 {
         ng = -ng;
     }
+    s.ng = ng;
     var ns = ng;
     if inst.has_normals != 0u {
         let n2 = dot(in.normal, in.normal);
@@ -196,23 +210,42 @@ fn fs_main(in: VsOut, @builtin(front_facing) facing: bool) -> @location(0) vec4<
             }
         }
     }
-    let frame = frame_from_normal(ns);
-    var wo_local = to_local(frame, wo);
+    s.frame = frame_from_normal(ns);
+    var wo_local = to_local(s.frame, wo);
     if wo_local.z <= 0.0 {
         wo_local.z = 1e-4;
         wo_local = normalize(wo_local);
     }
+    s.wo_local = wo_local;
+    return s;
+}
+
+// Radiance towards the viewer from light i: f · E⊥ · |cos θ| · shadow-map
+// visibility, 0 where the light is below the geometric surface or the
+// shading and geometric normals disagree about its side.
+fn light_contribution(s: Surface, i: u32) -> vec3<f32> {
+    let l = light_li(lights[i], s.p);
+    if l.valid == 0u {
+        return vec3<f32>(0.0);
+    }
+    let wl = to_local(s.frame, l.wi);
+    let g = dot(l.wi, s.ng);
+    if g != 0.0 && wl.z != 0.0 && (g > 0.0) == (wl.z > 0.0) {
+        let v = shadow_visibility(i, s.p, s.ng);
+        return material_eval(materials[s.material], s.wo_local, wl) * l.value * (abs(wl.z) * v);
+    }
+    return vec3<f32>(0.0);
+}
+
+@fragment
+fn fs_main(in: VsOut, @builtin(front_facing) facing: bool) -> @location(0) vec4<f32> {
+    let s = surface_of(in, facing, cross(dpdx(in.world), dpdy(in.world)));
+    var radiance = s.emission;
+    if s.lit == 0u {
+        return vec4<f32>(radiance, 1.0);
+    }
     for (var i = 0u; i < camera.light_count; i++) {
-        let s = light_li(lights[i], p);
-        if s.valid == 0u {
-            continue;
-        }
-        let wl = to_local(frame, s.wi);
-        let g = dot(s.wi, ng);
-        if g != 0.0 && wl.z != 0.0 && (g > 0.0) == (wl.z > 0.0) {
-            let v = shadow_visibility(i, p, ng);
-            radiance += material_eval(mat, wo_local, wl) * s.value * (abs(wl.z) * v);
-        }
+        radiance += light_contribution(s, i);
     }
     return vec4<f32>(radiance, 1.0);
 }
