@@ -368,3 +368,58 @@ fn raster_engine_round_trip() {
         "shadow maps do not approach direct: FLIP {with_maps} vs {without} without"
     );
 }
+
+/// `bench --engine raster` (GPU; fails without an adapter unless
+/// PENUMBRA_SKIP_GPU=1): one JSON line per light count with the frame time
+/// and the forward pass, the shadow-map passes counted per layer.
+#[test]
+fn raster_bench_reports_each_pass_per_light_count() {
+    if std::env::var("PENUMBRA_SKIP_GPU").is_ok_and(|v| v == "1") {
+        eprintln!("note: raster_bench skipped because PENUMBRA_SKIP_GPU=1");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let o = penumbra(
+        &[
+            "bench",
+            "--engine",
+            "raster",
+            "--triangles",
+            "2000",
+            "--resolution",
+            "64x48",
+            "--lights",
+            "1,3",
+            "--frames",
+            "1",
+            "--shadows",
+            "map",
+            "--json",
+        ],
+        dir.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(lines.len(), 2, "{out}");
+    for (line, lights) in lines.iter().zip([1, 3]) {
+        assert!(
+            line.starts_with(&format!("{{\"lights\":{lights},\"frame_ms\":")),
+            "{line}"
+        );
+        // Timestamps on lavapipe and most GPUs: every point light has six
+        // shadow-map faces.
+        if line.contains("forward") {
+            assert!(
+                line.contains(&format!("\"shadow map\":{{\"passes\":{}", 6 * lights)),
+                "{line}"
+            );
+        }
+    }
+    let o = penumbra(
+        &["bench", "--engine", "raster", "--rays", "x.bin"],
+        dir.path(),
+    );
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("--engine trace only"), "{}", stderr(&o));
+}

@@ -1,7 +1,10 @@
 //! `penumbra bench`: BVH build rate, closest-hit throughput for coherent and
-//! incoherent rays, and path-tracing speed.
+//! incoherent rays, and path-tracing speed; with `--engine raster`, GPU time
+//! per pass of the raster path (commands/bench_raster.rs).
 
-use crate::options::{load_scene, parse_positive, thread_pool};
+use crate::commands::bench_raster::{self, RasterBench};
+use crate::commands::render::{Engine, ShadowArg, shadow_mode};
+use crate::options::{load_scene, parse_positive, parse_resolution, thread_pool};
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use glam::{Mat4, Vec3};
@@ -24,9 +27,10 @@ pub struct BenchArgs {
     /// An OBJ mesh to benchmark (lit by a directional light, default camera).
     #[arg(long, conflicts_with = "scene")]
     pub mesh: Option<PathBuf>,
-    /// Triangles in the generated bench mesh.
-    #[arg(long, default_value_t = 1_000_000, value_parser = parse_positive)]
-    pub triangles: u32,
+    /// Triangles in the generated bench mesh [default: 1000000 for trace,
+    /// 200000 for raster].
+    #[arg(long, value_parser = parse_positive)]
+    pub triangles: Option<u32>,
     /// Write the generated bench mesh as OBJ (for other renderers) and exit.
     #[arg(long)]
     pub write_mesh: Option<PathBuf>,
@@ -48,6 +52,26 @@ pub struct BenchArgs {
     /// One JSON object per line.
     #[arg(long)]
     pub json: bool,
+    /// trace: BVH and ray-tracing throughput on the CPU; raster: GPU time
+    /// per pass of the raster path.
+    #[arg(long, value_enum, default_value_t = Engine::Trace)]
+    pub engine: Engine,
+    /// Raster: image size.
+    #[arg(long, default_value = "1920x1080", value_parser = parse_resolution)]
+    pub resolution: (u32, u32),
+    /// Raster: comma-separated light counts, each a set of generated point
+    /// lights around the scene; 0 = the scene's own lights.
+    #[arg(long, value_delimiter = ',', default_value = "1,8,1024")]
+    pub lights: Vec<u32>,
+    /// Raster: timed frames per light count (the median is reported).
+    #[arg(long, default_value_t = 5, value_parser = parse_positive)]
+    pub frames: u32,
+    /// Raster: shadows (as `penumbra render --shadows`).
+    #[arg(long, value_enum, default_value_t = ShadowArg::None)]
+    pub shadows: ShadowArg,
+    /// Raster: samples per pixel (1 or 4).
+    #[arg(long, default_value_t = 1)]
+    pub msaa: u32,
 }
 
 /// A scene of `meshes` in grey, lit by a sun, framed by the camera.
@@ -119,8 +143,12 @@ fn report(m: &Measure, json: bool, unit: &str) {
 }
 
 pub fn run(args: BenchArgs) -> Result<()> {
+    if args.engine == Engine::Raster {
+        return run_raster(&args);
+    }
+    let triangles = args.triangles.unwrap_or(1_000_000) as usize;
     if let Some(out) = &args.write_mesh {
-        let mesh = bench_mesh(args.triangles as usize);
+        let mesh = bench_mesh(triangles);
         write_obj(out, &mesh).with_context(|| format!("writing {}", out.display()))?;
         eprintln!(
             "penumbra: wrote {} triangles to {}",
@@ -141,13 +169,52 @@ pub fn run(args: BenchArgs) -> Result<()> {
                     .collect(),
             )
         }
-        (None, None) => mesh_scene(vec![(bench_mesh(args.triangles as usize), Mat4::IDENTITY)]),
+        (None, None) => mesh_scene(vec![(bench_mesh(triangles), Mat4::IDENTITY)]),
     };
     if scene.triangle_count() == 0 {
         bail!("the scene has no triangles to benchmark");
     }
     let pool = thread_pool(args.threads)?;
     pool.install(|| run_measures(&args, &scene))
+}
+
+fn run_raster(args: &BenchArgs) -> Result<()> {
+    if args.write_mesh.is_some() || args.rays.is_some() || args.write_rays.is_some() {
+        bail!("--write-mesh, --rays and --write-rays apply to --engine trace only");
+    }
+    if args.msaa != 1 && args.msaa != 4 {
+        bail!("--msaa {}: use 1 or 4", args.msaa);
+    }
+    let scene = match (&args.scene, &args.mesh) {
+        (Some(p), _) => load_scene(p)?,
+        (None, Some(m)) => {
+            let loaded = load_scene(m)?;
+            mesh_scene(
+                loaded
+                    .instances
+                    .iter()
+                    .map(|i| (loaded.meshes[i.mesh].clone(), i.transform))
+                    .collect(),
+            )
+        }
+        (None, None) => {
+            bench_raster::raster_bench_scene(args.triangles.unwrap_or(200_000) as usize)
+        }
+    };
+    let (width, height) = args.resolution;
+    let bench = RasterBench {
+        width,
+        height,
+        light_counts: args.lights.clone(),
+        frames: args.frames,
+        options: penumbra_raster::RasterOptions {
+            msaa: args.msaa,
+            shadows: shadow_mode(args.shadows),
+            ..Default::default()
+        },
+        json: args.json,
+    };
+    bench_raster::run(&bench, &scene)
 }
 
 fn run_measures(args: &BenchArgs, scene: &Scene) -> Result<()> {

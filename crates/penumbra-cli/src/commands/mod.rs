@@ -1,4 +1,5 @@
 pub mod bench;
+pub mod bench_raster;
 pub mod compare;
 pub mod info;
 pub mod render;

@@ -83,6 +83,14 @@ pub enum ShadowArg {
     Map,
 }
 
+/// The raster path's shadow mode for a `--shadows` value.
+pub fn shadow_mode(arg: ShadowArg) -> ShadowMode {
+    match arg {
+        ShadowArg::None => ShadowMode::None,
+        ShadowArg::Map => ShadowMode::Map,
+    }
+}
+
 fn parse_pcf(s: &str) -> Result<u32, String> {
     match s.trim().parse::<u32>() {
         Ok(n) if (1..=MAX_PCF).contains(&n) => Ok(n),
@@ -237,10 +245,7 @@ fn render_raster(
             "penumbra: warning: --engine raster shades like --integrator local (direct light from the abstract lights; shadows only with --shadows map); --integrator is ignored"
         );
     }
-    let shadows = match args.shadows.unwrap_or(ShadowArg::None) {
-        ShadowArg::None => ShadowMode::None,
-        ShadowArg::Map => ShadowMode::Map,
-    };
+    let shadows = shadow_mode(args.shadows.unwrap_or(ShadowArg::None));
     if shadows == ShadowMode::None && (args.shadow_map_size.is_some() || args.pcf.is_some()) {
         bail!("--shadow-map-size and --pcf need --shadows map");
     }
