@@ -31,7 +31,10 @@ pub struct GpuLight {
     pub spot_direction: [f32; 3],
     pub cos_inner: f32,
     pub cos_outer: f32,
-    pub _pad0: f32,
+    /// Range cut-off distance of point and spot lights (window
+    /// `clamp(1 − (d/range)⁴, 0, 1)²`); 0 = no cut-off (shaders need not
+    /// handle infinities).
+    pub range: f32,
     pub _pad1: f32,
     pub _pad2: f32,
 }
@@ -41,9 +44,11 @@ impl GpuLight {
     /// homogeneous form (so the directional normalisation is the same).
     pub fn from_light(light: &Light) -> Self {
         let h = light.homogeneous();
+        let range = light.range();
         let mut out = Self {
             position: h.position.to_array(),
             m: h.m.to_array(),
+            range: if range.is_finite() { range } else { 0.0 },
             ..Self::default()
         };
         match light {
@@ -226,7 +231,7 @@ pub fn gpu_structs() -> Vec<HostLayout> {
                 spot_direction,
                 cos_inner,
                 cos_outer,
-                _pad0,
+                range,
                 _pad1,
                 _pad2
             ]
@@ -319,6 +324,7 @@ mod tests {
             intensity: Vec3::ONE,
             cos_inner: 0.9,
             cos_outer: 0.8,
+            range: f32::INFINITY,
         };
         let g = GpuLight::from_light(&Light::Spot(s));
         assert_eq!(g.kind, LIGHT_SPOT);

@@ -176,6 +176,7 @@ mod tests {
             intensity: Vec3::ONE,
             cos_inner: 0.95,
             cos_outer: 0.8,
+            range: f32::INFINITY,
         };
         let lights = [
             Light::Directional(DirectionalLight {
@@ -186,6 +187,7 @@ mod tests {
             Light::Point(PointLight {
                 position: Vec3::new(1.0, 3.0, 1.0),
                 intensity: Vec3::ONE,
+                range: f32::INFINITY,
             }),
         ]
         .map(|light| SceneLight {

@@ -180,6 +180,7 @@ fn lights_scene() -> Scene {
             Light::Point(PointLight {
                 position: Vec3::new(-2.0, 4.0, 3.0),
                 intensity: Vec3::new(12.0, 11.0, 10.0),
+                range: f32::INFINITY,
             }),
         ),
         light(
@@ -197,6 +198,7 @@ fn lights_scene() -> Scene {
                 intensity: Vec3::new(40.0, 30.0, 20.0),
                 cos_inner: 25f32.to_radians().cos(),
                 cos_outer: 40f32.to_radians().cos(),
+                range: f32::INFINITY,
             }),
         ),
     ];

@@ -43,11 +43,13 @@ fn light(which: &str) -> Light {
                 intensity: Vec3::splat(40.0),
                 cos_inner: 30f32.to_radians().cos(),
                 cos_outer: 42f32.to_radians().cos(),
+                range: f32::INFINITY,
             })
         }
         "point" => Light::Point(PointLight {
             position: Vec3::new(1.5, 3.2, 1.0),
             intensity: Vec3::splat(20.0),
+            range: f32::INFINITY,
         }),
         _ => unreachable!(),
     }

@@ -191,12 +191,21 @@ fn wgsl_lights_match_rust() {
     let mut cases = Vec::with_capacity(CASES);
     let mut lights = Vec::with_capacity(CASES);
     let pos = |rng: &mut TestRng| colour(rng, 10.0) - Vec3::splat(5.0);
+    // Half the point and spot lights are cut off at a range of 2 to 14.
+    let range = |rng: &mut TestRng| {
+        if rng.next_f32() < 0.5 {
+            f32::INFINITY
+        } else {
+            2.0 + 12.0 * rng.next_f32()
+        }
+    };
     for i in 0..CASES {
         let p = pos(&mut rng);
         let light = match i % 3 {
             0 => Light::Point(PointLight {
                 position: pos(&mut rng),
                 intensity: colour(&mut rng, 100.0),
+                range: range(&mut rng),
             }),
             1 => Light::Directional(DirectionalLight {
                 // Not necessarily unit: the light normalises it.
@@ -220,6 +229,7 @@ fn wgsl_lights_match_rust() {
                     intensity: colour(&mut rng, 100.0),
                     cos_inner,
                     cos_outer,
+                    range: range(&mut rng),
                 })
             }
         };
@@ -234,6 +244,7 @@ fn wgsl_lights_match_rust() {
         dispatch(&ctx, "eval_light", bytemuck::cast_slice(&cases), CASES, 2);
     let mut lit = [0usize; 3];
     let mut falloff_band = 0;
+    let mut window_band = 0;
     for (i, (c, light)) in cases.iter().zip(&lights).enumerate() {
         let g = out[i];
         let cpu = light.sample_li(Vec3::from(c.p));
@@ -269,6 +280,10 @@ fn wgsl_lights_match_rust() {
                 s.distance
             );
             lit[i % 3] += 1;
+            let w = penumbra_shading::light::range_window(s.distance, light.range());
+            if w > 0.0 && w < 1.0 {
+                window_band += 1;
+            }
             if let Light::Spot(sp) = light {
                 let f = sp.falloff(-s.wi);
                 if f > 0.0 && f < 1.0 {
@@ -278,8 +293,9 @@ fn wgsl_lights_match_rust() {
         }
     }
     eprintln!(
-        "light cases: {CASES}, reaching p per kind {lit:?}, spot falloff band {falloff_band}"
+        "light cases: {CASES}, reaching p per kind {lit:?}, spot falloff band {falloff_band}, range window band {window_band}"
     );
-    assert!(lit[0] > 6000 && lit[1] > 6000 && lit[2] > 1000, "{lit:?}");
+    assert!(lit[0] > 4000 && lit[1] > 6000 && lit[2] > 700, "{lit:?}");
+    assert!(window_band > 2000, "{window_band}");
     assert!(falloff_band > 300, "{falloff_band}");
 }

@@ -259,6 +259,7 @@ fn features_hierarchy_instancing_camera_light_materials() {
     assert!((s.intensity - Vec3::new(1.0, 0.5, 0.25)).length() < 1e-6);
     assert!((s.cos_inner - 0.2f32.cos()).abs() < 1e-6);
     assert!((s.cos_outer - 0.4f32.cos()).abs() < 1e-6);
+    assert_eq!(s.range, 10.0);
 
     // Materials: 'textured' is exact (no warning), texture decoded from sRGB.
     let textured = &scene.materials[m0.material];
@@ -288,7 +289,7 @@ fn features_hierarchy_instancing_camera_light_materials() {
 
     // Warnings: one per material with ignored parts, one per kind of skipped data.
     let w = &scene.warnings;
-    assert_eq!(w.len(), 4, "{w:#?}");
+    assert_eq!(w.len(), 3, "{w:#?}");
     let material: Vec<_> = w.iter().filter(|s| s.contains("material")).collect();
     assert_eq!(material.len(), 1, "{w:#?}");
     for part in [
@@ -305,7 +306,7 @@ fn features_hierarchy_instancing_camera_light_materials() {
         w.iter()
             .any(|s| s.contains("meshes[0].primitives[2] (LINES)"))
     );
-    assert!(w.iter().any(|s| s.contains("range ignored")));
+    assert!(!w.iter().any(|s| s.contains("range")));
     assert!(
         w.iter()
             .any(|s| s.contains("not supported, ignored: EXT_mesh_gpu_instancing"))

@@ -234,3 +234,26 @@ fn unknown_environment_key_is_a_syntax_error_naming_it() {
     let e = load_toml_str(&t, &file(), &LoadOptions::default()).unwrap_err();
     assert!(e.to_string().contains("brightness"), "{e}");
 }
+
+#[test]
+fn point_and_spot_lights_take_a_range() {
+    use penumbra_shading::light::Light;
+    let s = load(
+        "[[lights]]\ntype = \"point\"\nposition = [0, 1, 0]\nintensity = 2\nrange = 3.5\n\
+         [[lights]]\ntype = \"spot\"\nposition = [0, 2, 0]\ndirection = [0, -1, 0]\nintensity = 1\nrange = 7\n\
+         [[lights]]\ntype = \"point\"\nposition = [0, 1, 0]\nintensity = 2\n",
+    );
+    let ranges: Vec<f32> = s.lights.iter().map(|l| l.light.range()).collect();
+    assert_eq!(ranges, [3.5, 7.0, f32::INFINITY]);
+    assert!(matches!(s.lights[0].light, Light::Point(p) if p.range == 3.5));
+    fails(
+        "[[lights]]\ntype = \"point\"\nposition = [0, 1, 0]\nintensity = 2\nrange = 0\n",
+        "lights[0].range",
+        &["range must be finite and > 0", "0"],
+    );
+    fails(
+        "[[lights]]\ntype = \"directional\"\ndirection = [0, -1, 0]\nirradiance = 2\nrange = 4\n",
+        "lights[0].range",
+        &["does not apply to a directional light"],
+    );
+}

@@ -15,7 +15,7 @@ pub use area::{AreaLight, Shape, ShapeHit};
 pub use directional::DirectionalLight;
 pub use environment::{Environment, EnvironmentMap};
 pub use homogeneous::HomogeneousLight;
-pub use point::PointLight;
+pub use point::{PointLight, range_window};
 pub use spot::SpotLight;
 
 use crate::Rgb;
@@ -68,8 +68,18 @@ impl Light {
         }
     }
 
+    /// Range cut-off distance (`f32::INFINITY` for none; directional
+    /// lights have none).
+    pub fn range(&self) -> f32 {
+        match self {
+            Light::Point(l) => l.range,
+            Light::Directional(_) => f32::INFINITY,
+            Light::Spot(l) => l.range,
+        }
+    }
+
     /// The unified homogeneous light (for spot lights without the cone
-    /// falloff).
+    /// falloff and range window).
     pub fn homogeneous(&self) -> HomogeneousLight {
         match self {
             Light::Point(l) => l.homogeneous(),

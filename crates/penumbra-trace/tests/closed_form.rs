@@ -77,6 +77,7 @@ fn point_light_over_plane() {
             light: Light::Point(PointLight {
                 position: Vec3::new(0.0, d, 0.0),
                 intensity: Rgb::splat(intensity),
+                range: f32::INFINITY,
             }),
         });
         let view = 3.0;

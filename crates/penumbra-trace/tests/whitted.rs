@@ -147,6 +147,7 @@ fn whitted_and_path_agree_on_a_specular_scene() {
             light: Light::Point(PointLight {
                 position: p,
                 intensity: Rgb::splat(i),
+                range: f32::INFINITY,
             }),
         });
     }

@@ -73,6 +73,7 @@ pub fn generated_lights(bounds: (Vec3, Vec3), count: u32) -> Vec<SceneLight> {
                 light: Light::Point(PointLight {
                     position: centre + 1.6 * r * dir,
                     intensity: Rgb::splat(total / count as f32),
+                    range: f32::INFINITY,
                 }),
             }
         })

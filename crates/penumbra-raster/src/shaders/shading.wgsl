@@ -21,6 +21,7 @@ const PHONG_NORMALIZED: u32 = 3u;
 // point and spot lights (y = position), w = 0 for directional lights (y =
 // unit direction towards the light); m = intensity [W/sr] or irradiance
 // [W/m²]. Spot lights add the glTF cone falloff around spot_direction.
+// range > 0: point and spot lights are cut off by glTF's window (0 = none).
 struct GpuLight {
     position: vec4<f32>,
     m: vec3<f32>,
@@ -28,7 +29,7 @@ struct GpuLight {
     spot_direction: vec3<f32>,
     cos_inner: f32,
     cos_outer: f32,
-    _pad0: f32,
+    range: f32,
     _pad1: f32,
     _pad2: f32,
 }
@@ -91,13 +92,28 @@ fn spot_falloff(light: GpuLight, w: vec3<f32>) -> f32 {
     return t * t;
 }
 
-// Light::sample_li for the abstract lights.
+// range_window: clamp(1 − (d / range)⁴, 0, 1)², 1 without a range (≤ 0).
+fn range_window(distance: f32, range: f32) -> f32 {
+    if range <= 0.0 {
+        return 1.0;
+    }
+    let x = distance / range;
+    let x2 = x * x;
+    let t = clamp(1.0 - x2 * x2, 0.0, 1.0);
+    return t * t;
+}
+
+// Light::sample_li for the abstract lights: the homogeneous form, times the
+// spot cone falloff and the range window of point and spot lights.
 fn light_li(light: GpuLight, x: vec3<f32>) -> LightIncidence {
     var s = homogeneous_li(light.position, light.m, x);
-    if s.valid == 0u || light.kind != LIGHT_SPOT {
+    if s.valid == 0u || light.kind == LIGHT_DIRECTIONAL {
         return s;
     }
-    let f = spot_falloff(light, -s.wi);
+    var f = range_window(s.distance, light.range);
+    if light.kind == LIGHT_SPOT {
+        f = f * spot_falloff(light, -s.wi);
+    }
     if f <= 0.0 {
         s.valid = 0u;
         return s;

@@ -333,7 +333,6 @@ struct Notes {
     morph_targets: Vec<String>,
     skins: Vec<usize>,
     singular: Vec<usize>,
-    light_ranges: Vec<usize>,
     cameras: Vec<usize>,
 }
 
@@ -570,9 +569,16 @@ impl Loader<'_> {
                 ),
             ));
         }
-        if light.range.is_some() {
-            self.notes.light_ranges.push(l);
-        }
+        let range = match light.range {
+            None => f32::INFINITY,
+            Some(r) if r.is_finite() && r > 0.0 => r,
+            Some(r) => {
+                return Err(self.err(
+                    format!("{lpath}.range"),
+                    format!("range {r} must be finite and positive"),
+                ));
+            }
+        };
         let position = world.transform_point3(Vec3::ZERO);
         let direction = world.transform_vector3(-Vec3::Z).normalize_or_zero();
         let needs_direction = !matches!(light.type_, Checked::Valid(Type::Point));
@@ -586,6 +592,7 @@ impl Loader<'_> {
             Checked::Valid(Type::Point) => Light::Point(PointLight {
                 position,
                 intensity: color * candela_to_watts_per_sr(light.intensity),
+                range,
             }),
             Checked::Valid(Type::Directional) => Light::Directional(DirectionalLight {
                 direction,
@@ -608,6 +615,7 @@ impl Loader<'_> {
                     intensity: color * candela_to_watts_per_sr(light.intensity),
                     cos_inner: inner.cos(),
                     cos_outer: outer.cos(),
+                    range,
                 })
             }
             Checked::Invalid => return Err(self.err(format!("{lpath}.type"), "invalid light type")),
@@ -840,17 +848,6 @@ impl Loader<'_> {
             w.push(format!(
                 "{f}: skipped the meshes of node(s) with a singular (zero-scale) transform: {}",
                 list(&nodes)
-            ));
-        }
-        if !n.light_ranges.is_empty() {
-            let lights: Vec<String> = n
-                .light_ranges
-                .iter()
-                .map(|i| format!("lights[{i}]"))
-                .collect();
-            w.push(format!(
-                "{f}: KHR_lights_punctual range ignored (inverse-square falloff without cut-off) on {}",
-                list(&lights)
             ));
         }
         if n.cameras.len() > 1 {

@@ -1,8 +1,9 @@
 //! Spot light with glTF `KHR_lights_punctual` semantics: intensity I [W/sr]
 //! on the axis, full inside the inner cone, smoothly to 0 at the outer cone:
-//! `t = clamp((cos θ − cos θo) / (cos θi − cos θo), 0, 1)`, attenuation `t²`.
+//! `t = clamp((cos θ − cos θo) / (cos θi − cos θo), 0, 1)`, attenuation `t²`,
+//! and the same optional range cut-off as point lights ([`range_window`]).
 
-use super::{HomogeneousLight, LightSample};
+use super::{HomogeneousLight, LightSample, range_window};
 use crate::Rgb;
 use glam::Vec3;
 
@@ -15,6 +16,9 @@ pub struct SpotLight {
     pub intensity: Rgb,
     pub cos_inner: f32,
     pub cos_outer: f32,
+    /// Distance beyond which the light contributes nothing
+    /// (`f32::INFINITY`: no cut-off).
+    pub range: f32,
 }
 
 impl SpotLight {
@@ -26,10 +30,11 @@ impl SpotLight {
         t * t
     }
 
-    /// The unified point-light form (w = 1, M = I) times the cone falloff.
+    /// The unified point-light form (w = 1, M = I) times the cone falloff
+    /// and the range window.
     pub fn sample_li(&self, p: Vec3) -> Option<LightSample> {
         let mut s = HomogeneousLight::point(self.position, self.intensity).sample_li(p)?;
-        let f = self.falloff(-s.wi);
+        let f = self.falloff(-s.wi) * range_window(s.distance, self.range);
         if f <= 0.0 {
             return None;
         }
@@ -60,6 +65,7 @@ mod tests {
             intensity: Rgb::ONE,
             cos_inner: 0.9,
             cos_outer: 0.6,
+            range: f32::INFINITY,
         };
         let n = 1024;
         let mut sum = 0.0f64;

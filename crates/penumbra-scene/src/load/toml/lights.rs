@@ -88,6 +88,7 @@ fn light(doc: &Doc<'_>, path: &str, raw: &RawLight) -> Result<Parsed, SceneError
                 "intensity_cd",
                 "power_lm",
                 "color",
+                "range",
             ];
             doc.only_keys(path, "a point light", &raw.present_keys(), &keys)?;
             let position = doc.vec3(
@@ -97,6 +98,7 @@ fn light(doc: &Doc<'_>, path: &str, raw: &RawLight) -> Result<Parsed, SceneError
             Light::Point(PointLight {
                 position,
                 intensity: quantity(doc, path, raw, POINT_UNITS)?.1,
+                range: range(doc, path, raw)?,
             })
         }
         "directional" => {
@@ -117,6 +119,7 @@ fn light(doc: &Doc<'_>, path: &str, raw: &RawLight) -> Result<Parsed, SceneError
                 "inner_cone_deg",
                 "outer_cone_deg",
                 "color",
+                "range",
             ];
             doc.only_keys(path, "a spot light", &raw.present_keys(), &keys)?;
             let p = required(doc, path, "position", &raw.position)?;
@@ -128,6 +131,7 @@ fn light(doc: &Doc<'_>, path: &str, raw: &RawLight) -> Result<Parsed, SceneError
                 intensity: quantity(doc, path, raw, SPOT_UNITS)?.1,
                 cos_inner,
                 cos_outer,
+                range: range(doc, path, raw)?,
             })
         }
         "sphere" | "disk" | "quad" => {
@@ -142,6 +146,15 @@ fn light(doc: &Doc<'_>, path: &str, raw: &RawLight) -> Result<Parsed, SceneError
         }
     };
     Ok(Parsed::Abstract(SceneLight { name, light }))
+}
+
+/// `range = d`: the distance at which a point or spot light is cut off
+/// (glTF's smooth window); absent = no cut-off.
+fn range(doc: &Doc<'_>, path: &str, raw: &RawLight) -> Result<f32, SceneError> {
+    match raw.range {
+        None => Ok(f32::INFINITY),
+        Some(r) => doc.positive(&format!("{path}.range"), r),
+    }
 }
 
 /// `type = "sphere" | "disk" | "quad"`.

@@ -122,6 +122,7 @@ pub(super) struct RawLight {
     pub illuminance_lux: Option<Floats>,
     pub inner_cone_deg: Option<f64>,
     pub outer_cone_deg: Option<f64>,
+    pub range: Option<f64>,
     // Area lights.
     pub center: Option<Floats>,
     pub radius: Option<f64>,
@@ -174,6 +175,7 @@ impl RawLight {
             ("illuminance_lux", self.illuminance_lux.is_some()),
             ("inner_cone_deg", self.inner_cone_deg.is_some()),
             ("outer_cone_deg", self.outer_cone_deg.is_some()),
+            ("range", self.range.is_some()),
             ("center", self.center.is_some()),
             ("radius", self.radius.is_some()),
             ("normal", self.normal.is_some()),
