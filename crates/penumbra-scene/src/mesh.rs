@@ -103,6 +103,10 @@ pub struct Instance {
     pub transform: Mat4,
     /// Optional per-instance material override.
     pub material: Option<MaterialId>,
+    /// Marked as a receiver of the raster engine's planar projected shadows
+    /// (TOML `planar_receiver = true`); without any mark, the largest
+    /// planar instance receives them.
+    pub planar_receiver: bool,
 }
 
 impl Instance {
@@ -111,6 +115,7 @@ impl Instance {
             mesh,
             transform,
             material: None,
+            planar_receiver: false,
         }
     }
 

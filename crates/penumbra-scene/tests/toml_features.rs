@@ -526,3 +526,14 @@ fn objects_without_material_use_the_files_default() {
         Vec3::splat(0.3)
     );
 }
+
+#[test]
+fn objects_can_be_marked_as_planar_receivers() {
+    let s = load(
+        "[[objects]]\nshape = \"quad\"\nsize = 4\nplanar_receiver = true\n\
+         [[objects]]\nshape = \"sphere\"\nradius = 1\n\
+         [[objects]]\nshape = \"quad\"\nsize = 2\nplanar_receiver = false\n",
+    );
+    let marks: Vec<bool> = s.instances.iter().map(|i| i.planar_receiver).collect();
+    assert_eq!(marks, [true, false, false]);
+}

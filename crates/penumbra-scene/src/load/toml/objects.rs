@@ -36,6 +36,7 @@ pub(super) fn objects(
             Some(name) => Some(lookup_material(doc, &path, name, by_name)?),
             None => None,
         };
+        let first_instance = scene.instances.len();
         match (&o.mesh, &o.shape) {
             (Some(_), Some(_)) => {
                 return Err(doc.err(
@@ -55,7 +56,7 @@ pub(super) fn objects(
                 if let Some(k) = o.shape_keys().first() {
                     return Err(doc.err(
                         &format!("{path}.{k}"),
-                        format!("`{k}` is a shape parameter; a mesh object takes only name, material, mesh and transform keys"),
+                        format!("`{k}` is a shape parameter; a mesh object takes only name, material, mesh, planar_receiver and transform keys"),
                     ));
                 }
                 import_mesh(doc, options, &path, uri, material, xf, scene)?;
@@ -72,6 +73,11 @@ pub(super) fn objects(
                         .get_or_insert_with(|| scene.add_material(Material::default_grey())),
                 };
                 scene.add_mesh(mesh, xf);
+            }
+        }
+        if o.planar_receiver == Some(true) {
+            for inst in &mut scene.instances[first_instance..] {
+                inst.planar_receiver = true;
             }
         }
     }
@@ -323,6 +329,7 @@ fn merge(scene: &mut Scene, sub: Scene, material: Option<usize>, xf: Mat4, uri: 
                 Some(_) => None,
                 None => inst.material.map(|m| m + mat_off),
             },
+            planar_receiver: inst.planar_receiver,
         }));
     scene
         .lights

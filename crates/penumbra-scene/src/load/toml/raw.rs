@@ -196,6 +196,8 @@ pub(super) struct RawObject {
     pub material: Option<String>,
     pub mesh: Option<String>,
     pub shape: Option<String>,
+    /// Raster planar shadows fall on this object.
+    pub planar_receiver: Option<bool>,
     // Shape parameters.
     pub center: Option<Floats>,
     pub radius: Option<f64>,
