@@ -10,6 +10,29 @@ use penumbra_scene::camera::{Camera, Projection};
 /// centres map to the same points as `Camera::generate_ray(x + ½, y + ½)`:
 /// both use NDC x = 2 sx / width − 1, y = 1 − 2 sy / height.
 pub fn view_projection(camera: &Camera, width: u32, height: u32, bounds: (Vec3, Vec3)) -> Mat4 {
+    let (view, proj) = view_and_projection(camera, width, height, bounds);
+    proj * view
+}
+
+/// Depth beyond the scene's far side that an orthographic view keeps, in
+/// scene radii: the finite shadow-volume extrusion
+/// ([`ORTHO_EXTRUSION_RADII`]) must stay inside the far plane.
+const ORTHO_FAR_RADII: f32 = ORTHO_EXTRUSION_RADII + 1.5;
+
+/// Length, in scene radii, of the shadow-volume extrusion under an
+/// orthographic camera (which has no points at infinity): any two points of
+/// the bounding sphere are at most 2 radii apart, so the prisms reach past
+/// every receiver.
+pub const ORTHO_EXTRUSION_RADII: f32 = 2.5;
+
+/// World-to-view transform and the reversed-depth projection of
+/// [`view_projection`], separately (light culling works in view space).
+pub fn view_and_projection(
+    camera: &Camera,
+    width: u32,
+    height: u32,
+    bounds: (Vec3, Vec3),
+) -> (Mat4, Mat4) {
     let aspect = width as f32 / height as f32;
     let view = camera.camera_to_world.inverse();
     let (lo, hi) = bounds;
@@ -31,9 +54,10 @@ pub fn view_projection(camera: &Camera, width: u32, height: u32, bounds: (Vec3, 
             )
         }
         Projection::Orthographic { height } => {
-            // Rays start on the camera plane (z = 0), as the CPU's.
+            // Rays start on the camera plane (z = 0), as the CPU's. The far
+            // plane leaves room for shadow-volume extrusions.
             let z_centre = view.transform_point3(centre).z;
-            let far = (-z_centre + radius) * 1.01 + 1e-4;
+            let far = (-z_centre + ORTHO_FAR_RADII * radius) * 1.01 + 1e-4;
             let far = far.max(1e-4);
             Mat4::from_cols(
                 Vec4::new(2.0 / (height * aspect), 0.0, 0.0, 0.0),
@@ -43,7 +67,7 @@ pub fn view_projection(camera: &Camera, width: u32, height: u32, bounds: (Vec3, 
             )
         }
     };
-    proj * view
+    (view, proj)
 }
 
 /// The camera constants of a frame.

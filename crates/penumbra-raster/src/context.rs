@@ -119,8 +119,10 @@ impl GpuContext {
         let summary = AdapterSummary::from_info(&adapter.get_info());
         // Format-specific features let 4× MSAA use an Rgba32Float target
         // where the driver allows it; timestamps where there are any.
+        // Depth32FloatStencil8 keeps float depth for the stencil shadows.
         let wanted = wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES
-            | wgpu::Features::TIMESTAMP_QUERY;
+            | wgpu::Features::TIMESTAMP_QUERY
+            | wgpu::Features::DEPTH32FLOAT_STENCIL8;
         let required_features = adapter.features() & wanted;
         let (device, queue) = adapter
             .request_device(&wgpu::DeviceDescriptor {

@@ -199,6 +199,97 @@ pub struct GpuShadowView {
     pub axis: [f32; 4],
 }
 
+/// Tiled light culling (WGSL `GpuCulling`): the screen is cut into
+/// `TILE`×`TILE`-pixel tiles, each with a list of the lights whose range
+/// sphere meets the tile's slice of the view frustum (see
+/// `light_culling.rs`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuCulling {
+    /// Clip (NDC with reversed depth) to view space.
+    pub inv_proj: [[f32; 4]; 4],
+    pub tiles_x: u32,
+    pub tiles_y: u32,
+    pub light_count: u32,
+    /// Most lights one tile list holds; a tile with more is marked
+    /// [`TILE_OVERFLOW`] and its pixels loop over every light.
+    pub max_per_tile: u32,
+    pub width: u32,
+    pub height: u32,
+    /// 0: no lists, every pixel loops over every light.
+    pub enabled: u32,
+    /// Samples per pixel of the depth buffer.
+    pub samples: u32,
+}
+
+/// Count of a tile list that overflowed (its pixels shade every light).
+pub const TILE_OVERFLOW: u32 = u32::MAX;
+
+/// Per-pass parameters of the one-light passes (WGSL `GpuPassParams`), one
+/// 256-byte slot each, bound with a dynamic offset.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuPassParams {
+    /// Index of the light the pass is about.
+    pub light: u32,
+    /// Planar shadows: index of the receiver (stencil value `receiver + 1`).
+    pub receiver: u32,
+    pub _pad0: u32,
+    pub _pad1: u32,
+}
+
+/// Stride of [`GpuPassParams`] slots (the largest
+/// `min_uniform_buffer_offset_alignment` wgpu allows).
+pub const PASS_PARAMS_STRIDE: u64 = 256;
+
+/// One instance as the shadow-volume passes see it (WGSL
+/// `GpuVolumeInstance`): where its mesh lies in the merged geometry
+/// buffers and where its triangles' facing values go.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuVolumeInstance {
+    /// First index (of 3 per triangle) of the mesh in the merged index buffer.
+    pub first_index: u32,
+    /// Added to the mesh's indices: its first vertex in the merged positions.
+    pub first_vertex: u32,
+    pub first_edge: u32,
+    pub edge_count: u32,
+    /// First entry of this instance's triangles in the facing buffer.
+    pub first_facing: u32,
+    pub triangle_count: u32,
+    /// 1: every edge has two opposite triangles (only back-facing triangles
+    /// cast); 0: open or non-manifold (every triangle casts, two-sided).
+    pub closed: u32,
+    /// Index into the scene instances (model matrix).
+    pub instance: u32,
+}
+
+/// Scene-scale constants of the shadow-volume extrusion (WGSL
+/// `GpuVolumeGeometry`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuVolumeGeometry {
+    /// Distance each prism starts behind its triangle, away from the light.
+    pub eps: f32,
+    /// Orthographic cameras: length of the finite extrusion.
+    pub extrude: f32,
+    pub _pad0: f32,
+    pub _pad1: f32,
+}
+
+/// A planar shadow receiver (WGSL `GpuReceiver`): its world plane.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuReceiver {
+    /// (n, d) with n·x + d = 0, n unit.
+    pub plane: [f32; 4],
+    /// Occluder points within this distance of the plane cast nothing on it.
+    pub plane_eps: f32,
+    pub _pad0: f32,
+    pub _pad1: f32,
+    pub _pad2: f32,
+}
+
 /// Host layout of one `#[repr(C)]` GPU struct: its WGSL name, size and
 /// (field name, offset) pairs, from `size_of` and `offset_of!`.
 #[derive(Clone, Debug, PartialEq)]
@@ -277,6 +368,50 @@ pub fn gpu_structs() -> Vec<HostLayout> {
             ]
         ),
         host_layout!(GpuShadowView, "GpuShadowView", [view_proj, axis]),
+        host_layout!(
+            GpuCulling,
+            "GpuCulling",
+            [
+                inv_proj,
+                tiles_x,
+                tiles_y,
+                light_count,
+                max_per_tile,
+                width,
+                height,
+                enabled,
+                samples
+            ]
+        ),
+        host_layout!(
+            GpuPassParams,
+            "GpuPassParams",
+            [light, receiver, _pad0, _pad1]
+        ),
+        host_layout!(
+            GpuVolumeInstance,
+            "GpuVolumeInstance",
+            [
+                first_index,
+                first_vertex,
+                first_edge,
+                edge_count,
+                first_facing,
+                triangle_count,
+                closed,
+                instance
+            ]
+        ),
+        host_layout!(
+            GpuVolumeGeometry,
+            "GpuVolumeGeometry",
+            [eps, extrude, _pad0, _pad1]
+        ),
+        host_layout!(
+            GpuReceiver,
+            "GpuReceiver",
+            [plane, plane_eps, _pad0, _pad1, _pad2]
+        ),
     ]
 }
 

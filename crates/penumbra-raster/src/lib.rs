@@ -1,10 +1,11 @@
-//! penumbra's real-time pipeline on the GPU (wgpu): a headless forward
-//! renderer that shades every pixel with the sum over the scene's abstract
-//! lights (point, directional, spot) of f · E⊥ · cos θ, with WGSL twins of
-//! the Rust BRDFs (Lambert, Phong–Blinn) and lights: without shadows the
-//! model of the CPU `local` integrator, with shadow maps
-//! ([`ShadowMode::Map`]) an approximation of the CPU `direct` integrator's
-//! hard shadows.
+//! penumbra's real-time pipeline on the GPU (wgpu): a headless renderer
+//! that shades every pixel with the sum over the scene's abstract lights
+//! (point, directional, spot) of f · E⊥ · cos θ, with WGSL twins of the Rust
+//! BRDFs and lights: without shadows the model of the CPU `local`
+//! integrator; with shadow maps, planar projected shadows or stencil shadow
+//! volumes ([`ShadowMode`]) the hard shadows of the CPU `direct` integrator.
+//! A depth prepass feeds tiled light culling, so scenes with thousands of
+//! lights of finite range shade each pixel with the few that reach it.
 //!
 //! [`GpuContext::new`] picks a hardware adapter if there is one, else any
 //! adapter such as Mesa's lavapipe (software Vulkan); [`ForwardRenderer`]
@@ -14,11 +15,17 @@
 pub mod camera;
 pub mod context;
 pub mod gpu;
+pub mod light_culling;
+mod planar_shadow;
+pub mod receivers;
 pub mod renderer;
 pub mod scene_data;
+mod scene_gpu;
 pub mod shaders;
 pub mod shadow_map;
+mod shadow_volume;
 pub mod timing;
+pub mod topology;
 
 pub use wgpu;
 

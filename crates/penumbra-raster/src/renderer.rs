@@ -1,26 +1,36 @@
-//! Forward renderer: meshes and instances uploaded once per render, a depth
-//! buffer (reversed z), one draw per instance into an `Rgba32Float` target at
-//! the settings' resolution, read back into a [`penumbra_image::Image`].
+//! The raster frame: the scene uploaded once, then
+//!
+//! 1. shadow maps (`--shadows map`), one depth pass per layer;
+//! 2. a depth prepass (reversed depth, @invariant clip positions);
+//! 3. without stencil shadows: tiled light culling, then one forward pass
+//!    that shades each pixel with its tile's lights (shadow-mapped or not);
+//! 4. with stencil shadows (`planar`, `volume`): a base pass (emission),
+//!    then per light a stencil pass (planar projection or shadow volumes)
+//!    and an additive pass of that light where the stencil says lit;
+//!
+//! into an `Rgba32Float` target (MSAA 1 or 4), read back as an [`Image`].
 
-use crate::camera::gpu_camera;
+use crate::camera::view_and_projection;
 use crate::context::{GpuContext, GpuError};
-use crate::gpu::{GpuInstance, GpuLight, GpuShadow, GpuShadowView};
-use crate::scene_data::SceneData;
+use crate::gpu::GpuPassParams;
+use crate::light_culling::{LightCulling, MAX_CULLED_LIGHTS};
+use crate::planar_shadow::PlanarShadows;
+use crate::receivers::planar_receivers;
+use crate::scene_gpu::{PassParams, SceneGpu, params_layout, storage_entry, uniform_entry, whole};
 use crate::shaders::forward_source;
 use crate::shadow_map::{
     DEFAULT_NORMAL_OFFSET, DEFAULT_SHADOW_MAP_SIZE, DEFAULT_SLOPE_BIAS, SHADOW_CONSTANT_BIAS,
-    shadow_views,
+    SHADOW_MAP_FORMAT, ShadowMapFrame,
 };
+use crate::shadow_volume::ShadowVolumes;
 use crate::timing::{GpuTimer, PassTiming};
 use glam::Vec3;
 use penumbra_image::Image;
 use penumbra_scene::Scene;
 use penumbra_scene::camera::Camera;
 use std::time::Instant;
-use wgpu::util::DeviceExt;
 
 const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
-const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 /// How the raster path shadows the abstract lights.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -32,6 +42,17 @@ pub enum ShadowMode {
     /// bounds), perspective for spot lights (frustum = outer cone), six
     /// perspective cube faces for point lights.
     Map,
+    /// Planar projected shadows on the planar receivers (stencil).
+    Planar,
+    /// Stencil shadow volumes (z-fail, caps, extruded to infinity).
+    Volume,
+}
+
+impl ShadowMode {
+    /// Modes that shade one light per pass through the stencil buffer.
+    pub fn uses_stencil(self) -> bool {
+        matches!(self, ShadowMode::Planar | ShadowMode::Volume)
+    }
 }
 
 /// Options of the raster path.
@@ -50,6 +71,9 @@ pub struct RasterOptions {
     pub slope_bias: f32,
     /// Normal offset of the lookup in texels (see [`DEFAULT_NORMAL_OFFSET`]).
     pub normal_offset: f32,
+    /// Tiled light culling of the forward pass (off: every pixel loops over
+    /// every light; the image is the same, see `light_culling.rs`).
+    pub light_culling: bool,
 }
 
 impl Default for RasterOptions {
@@ -61,6 +85,7 @@ impl Default for RasterOptions {
             pcf: 1,
             slope_bias: DEFAULT_SLOPE_BIAS,
             normal_offset: DEFAULT_NORMAL_OFFSET,
+            light_culling: true,
         }
     }
 }
@@ -75,71 +100,114 @@ pub struct RasterOutput {
     pub image: Image,
     /// Wall time of upload, draw and readback [ms].
     pub total_ms: f64,
-    /// Wall time from submitting the pass to the end of its execution [ms]
-    /// (the queue is polled until idle).
+    /// Wall time from submitting the frame to the end of its execution
+    /// [ms] (the queue is polled until idle).
     pub frame_ms: f64,
     /// GPU time of every pass in submission order (names: `"shadow map
-    /// L"` per shadow-map layer, `"forward"`), where the adapter supports
-    /// timestamp queries; empty otherwise.
+    /// L"`, `"depth prepass"`, `"light culling"`, `"forward"`, `"base"`,
+    /// `"shadow volume facing L"`, `"shadow volume stencil L"`, `"planar
+    /// shadow L"`, `"light L"`), where the adapter supports timestamp
+    /// queries; empty otherwise.
     pub passes: Vec<PassTiming>,
-    /// What the raster path approximated for this scene (see [`SceneData`]).
+    /// What the raster path approximated for this scene (see
+    /// [`crate::SceneData`]).
     pub warnings: Vec<String>,
 }
 
-struct GpuMesh {
-    positions: wgpu::Buffer,
-    normals: Option<wgpu::Buffer>,
-    indices: wgpu::Buffer,
-    index_count: u32,
-}
-
-/// The forward pipeline for one MSAA setting.
+/// The raster pipelines for one set of options.
 #[derive(Debug)]
 pub struct ForwardRenderer {
-    pipeline: wgpu::RenderPipeline,
     layout: wgpu::BindGroupLayout,
+    params_layout: wgpu::BindGroupLayout,
+    depth_pipeline: wgpu::RenderPipeline,
+    forward_pipeline: wgpu::RenderPipeline,
+    base_pipeline: wgpu::RenderPipeline,
+    light_pipeline: wgpu::RenderPipeline,
     shadow_pipeline: wgpu::RenderPipeline,
     shadow_layout: wgpu::BindGroupLayout,
     shadow_sampler: wgpu::Sampler,
+    culling: LightCulling,
+    volumes: Option<ShadowVolumes>,
+    planar: Option<PlanarShadows>,
+    depth_format: wgpu::TextureFormat,
     options: RasterOptions,
-    msaa: u32,
 }
 
-fn storage_entry(binding: u32, visibility: wgpu::ShaderStages) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only: true },
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
+/// The frame's render targets.
+struct Targets {
+    resolved: wgpu::Texture,
+    resolved_view: wgpu::TextureView,
+    multisampled_view: Option<wgpu::TextureView>,
+    depth_view: wgpu::TextureView,
+}
+
+impl Targets {
+    /// The colour attachment: the multisampled target (resolved into the
+    /// single-sample one when `resolve`), or the single-sample target.
+    fn colour(
+        &self,
+        load: wgpu::LoadOp<wgpu::Color>,
+        resolve: bool,
+    ) -> wgpu::RenderPassColorAttachment<'_> {
+        let (view, resolve_target) = match &self.multisampled_view {
+            Some(ms) => (ms, resolve.then_some(&self.resolved_view)),
+            None => (&self.resolved_view, None),
+        };
+        wgpu::RenderPassColorAttachment {
+            view,
+            depth_slice: None,
+            resolve_target,
+            ops: wgpu::Operations {
+                load,
+                store: wgpu::StoreOp::Store,
+            },
+        }
     }
+
+    /// The depth(-stencil) attachment, depth loaded (read by the shading
+    /// passes), stencil loaded when the format has one.
+    fn depth_loaded(&self, stencil: bool) -> wgpu::RenderPassDepthStencilAttachment<'_> {
+        wgpu::RenderPassDepthStencilAttachment {
+            view: &self.depth_view,
+            depth_ops: Some(wgpu::Operations {
+                load: wgpu::LoadOp::Load,
+                store: wgpu::StoreOp::Store,
+            }),
+            stencil_ops: stencil.then_some(wgpu::Operations {
+                load: wgpu::LoadOp::Load,
+                store: wgpu::StoreOp::Store,
+            }),
+        }
+    }
+}
+
+fn check_msaa(ctx: &GpuContext, msaa: u32) -> Result<(), GpuError> {
+    if msaa != 1 && msaa != 4 {
+        return Err(GpuError::Unsupported(format!("MSAA {msaa}: use 1 or 4")));
+    }
+    if msaa > 1 {
+        let f = ctx.adapter.get_texture_format_features(COLOR_FORMAT);
+        let ok = ctx
+            .device
+            .features()
+            .contains(wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES)
+            && f.flags.sample_count_supported(msaa)
+            && f.flags
+                .contains(wgpu::TextureFormatFeatureFlags::MULTISAMPLE_RESOLVE);
+        if !ok {
+            return Err(GpuError::Unsupported(format!(
+                "adapter '{}' cannot resolve {msaa}x multisampled {COLOR_FORMAT:?} targets; use --msaa 1",
+                ctx.summary.name
+            )));
+        }
+    }
+    Ok(())
 }
 
 impl ForwardRenderer {
     pub fn new(ctx: &GpuContext, options: RasterOptions) -> Result<Self, GpuError> {
         let msaa = options.msaa;
-        if msaa != 1 && msaa != 4 {
-            return Err(GpuError::Unsupported(format!("MSAA {msaa}: use 1 or 4")));
-        }
-        if msaa > 1 {
-            let f = ctx.adapter.get_texture_format_features(COLOR_FORMAT);
-            let ok = ctx
-                .device
-                .features()
-                .contains(wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES)
-                && f.flags.sample_count_supported(msaa)
-                && f.flags
-                    .contains(wgpu::TextureFormatFeatureFlags::MULTISAMPLE_RESOLVE);
-            if !ok {
-                return Err(GpuError::Unsupported(format!(
-                    "adapter '{}' cannot resolve {msaa}x multisampled {COLOR_FORMAT:?} targets; use --msaa 1",
-                    ctx.summary.name
-                )));
-            }
-        }
+        check_msaa(ctx, msaa)?;
         let size = options.shadow_map_size;
         let max_dim = ctx.device.limits().max_texture_dimension_2d;
         if options.shadows == ShadowMode::Map && (size < 16 || size > max_dim) {
@@ -154,32 +222,34 @@ impl ForwardRenderer {
             )));
         }
         let device = &ctx.device;
+        let depth_format = if !options.shadows.uses_stencil() {
+            wgpu::TextureFormat::Depth32Float
+        } else if device
+            .features()
+            .contains(wgpu::Features::DEPTH32FLOAT_STENCIL8)
+        {
+            wgpu::TextureFormat::Depth32FloatStencil8
+        } else {
+            wgpu::TextureFormat::Depth24PlusStencil8
+        };
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("penumbra forward"),
             source: wgpu::ShaderSource::Wgsl(forward_source().into()),
         });
-        let vf = wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT;
+        let vf = wgpu::ShaderStages::VERTEX_FRAGMENT;
+        let fragment = wgpu::ShaderStages::FRAGMENT;
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("penumbra forward"),
             entries: &[
-                wgpu::BindGroupLayoutEntry {
-                    binding: 0,
-                    visibility: vf,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                    count: None,
-                },
-                storage_entry(1, vf),
-                storage_entry(2, wgpu::ShaderStages::FRAGMENT),
-                storage_entry(3, wgpu::ShaderStages::FRAGMENT),
-                storage_entry(4, wgpu::ShaderStages::FRAGMENT),
-                storage_entry(5, wgpu::ShaderStages::FRAGMENT),
+                uniform_entry(0, vf),
+                storage_entry(1, vf, true),
+                storage_entry(2, fragment, true),
+                storage_entry(3, fragment, true),
+                storage_entry(4, fragment, true),
+                storage_entry(5, fragment, true),
                 wgpu::BindGroupLayoutEntry {
                     binding: 6,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    visibility: fragment,
                     ty: wgpu::BindingType::Texture {
                         sample_type: wgpu::TextureSampleType::Depth,
                         view_dimension: wgpu::TextureViewDimension::D2Array,
@@ -189,17 +259,20 @@ impl ForwardRenderer {
                 },
                 wgpu::BindGroupLayoutEntry {
                     binding: 7,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    visibility: fragment,
                     ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
                     count: None,
                 },
+                storage_entry(10, fragment, true),
+                uniform_entry(11, fragment),
             ],
         });
+        let params_layout = params_layout(device);
         let shadow_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("penumbra shadow"),
             entries: &[
-                storage_entry(1, wgpu::ShaderStages::VERTEX),
-                storage_entry(5, wgpu::ShaderStages::VERTEX),
+                storage_entry(1, wgpu::ShaderStages::VERTEX, true),
+                storage_entry(5, wgpu::ShaderStages::VERTEX, true),
             ],
         });
         let shadow_pipeline_layout =
@@ -208,44 +281,173 @@ impl ForwardRenderer {
                 bind_group_layouts: &[Some(&shadow_layout)],
                 immediate_size: 0,
             });
-        // Depth only, no culling (open meshes and single quads cast too);
-        // reversed depth, so the bias is negative: it moves the stored
-        // depth away from the light by `slope_bias` times the triangle's
-        // depth slope, plus a few units of the depth format's precision.
-        let shadow_pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("penumbra shadow"),
-            layout: Some(&shadow_pipeline_layout),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_shadow"),
-                compilation_options: Default::default(),
-                buffers: &[Some(wgpu::VertexBufferLayout {
-                    array_stride: 12,
-                    step_mode: wgpu::VertexStepMode::Vertex,
-                    attributes: &wgpu::vertex_attr_array![0 => Float32x3],
-                })],
-            },
-            primitive: wgpu::PrimitiveState {
-                topology: wgpu::PrimitiveTopology::TriangleList,
-                cull_mode: None,
-                ..Default::default()
-            },
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: DEPTH_FORMAT,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Greater),
-                stencil: Default::default(),
-                bias: wgpu::DepthBiasState {
-                    constant: -SHADOW_CONSTANT_BIAS,
-                    slope_scale: -options.slope_bias,
-                    clamp: 0.0,
-                },
-            }),
-            multisample: Default::default(),
-            fragment: None,
-            multiview_mask: None,
-            cache: None,
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("penumbra forward"),
+            bind_group_layouts: &[Some(&layout), Some(&params_layout)],
+            immediate_size: 0,
         });
+        let vec3_buffer = |location| wgpu::VertexBufferLayout {
+            array_stride: 12,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: if location == 0 {
+                &wgpu::vertex_attr_array![0 => Float32x3]
+            } else {
+                &wgpu::vertex_attr_array![1 => Float32x3]
+            },
+        };
+        let position_only = [Some(vec3_buffer(0))];
+        let with_normals = [Some(vec3_buffer(0)), Some(vec3_buffer(1))];
+        struct Stage<'a> {
+            label: &'a str,
+            vs: &'a str,
+            fs: Option<&'a str>,
+            buffers: &'a [Option<wgpu::VertexBufferLayout<'a>>],
+            depth: wgpu::DepthStencilState,
+            blend: Option<wgpu::BlendState>,
+        }
+        let build = |s: Stage<'_>, samples: u32, layout: &wgpu::PipelineLayout| {
+            let targets = [Some(wgpu::ColorTargetState {
+                format: COLOR_FORMAT,
+                blend: s.blend,
+                write_mask: wgpu::ColorWrites::ALL,
+            })];
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(s.label),
+                layout: Some(layout),
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some(s.vs),
+                    compilation_options: Default::default(),
+                    buffers: s.buffers,
+                },
+                primitive: wgpu::PrimitiveState {
+                    topology: wgpu::PrimitiveTopology::TriangleList,
+                    front_face: wgpu::FrontFace::Ccw,
+                    cull_mode: None,
+                    ..Default::default()
+                },
+                depth_stencil: Some(s.depth),
+                multisample: wgpu::MultisampleState {
+                    count: samples,
+                    ..Default::default()
+                },
+                fragment: s.fs.map(|fs| wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some(fs),
+                    compilation_options: Default::default(),
+                    targets: &targets,
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        };
+        let depth_state =
+            |write: bool, compare, stencil: wgpu::StencilState, format| wgpu::DepthStencilState {
+                format,
+                depth_write_enabled: Some(write),
+                depth_compare: Some(compare),
+                stencil,
+                bias: Default::default(),
+            };
+        let greater_equal = wgpu::CompareFunction::GreaterEqual;
+        // Shadow maps: depth only, no culling (open meshes and single quads
+        // cast too); reversed depth, so the bias is negative: it moves the
+        // stored depth away from the light by `slope_bias` times the
+        // triangle's depth slope, plus a few units of the format's precision.
+        let shadow_pipeline = build(
+            Stage {
+                label: "shadow map",
+                vs: "vs_shadow",
+                fs: None,
+                buffers: &position_only,
+                depth: wgpu::DepthStencilState {
+                    bias: wgpu::DepthBiasState {
+                        constant: -SHADOW_CONSTANT_BIAS,
+                        slope_scale: -options.slope_bias,
+                        clamp: 0.0,
+                    },
+                    ..depth_state(
+                        true,
+                        wgpu::CompareFunction::Greater,
+                        Default::default(),
+                        SHADOW_MAP_FORMAT,
+                    )
+                },
+                blend: None,
+            },
+            1,
+            &shadow_pipeline_layout,
+        );
+        let depth_pipeline = build(
+            Stage {
+                label: "depth prepass",
+                vs: "vs_depth",
+                fs: None,
+                buffers: &position_only,
+                depth: depth_state(
+                    true,
+                    wgpu::CompareFunction::Greater,
+                    Default::default(),
+                    depth_format,
+                ),
+                blend: None,
+            },
+            msaa,
+            &pipeline_layout,
+        );
+        let shading = |label, fs, stencil, blend| {
+            build(
+                Stage {
+                    label,
+                    vs: "vs_main",
+                    fs: Some(fs),
+                    buffers: &with_normals,
+                    depth: depth_state(false, greater_equal, stencil, depth_format),
+                    blend,
+                },
+                msaa,
+                &pipeline_layout,
+            )
+        };
+        let forward_pipeline = shading("forward", "fs_forward", Default::default(), None);
+        let base_pipeline = shading("base", "fs_base", Default::default(), None);
+        // One light, added where the stencil is 0 (shadow volumes: count 0;
+        // planar shadows: top bit clear).
+        let read_mask = if options.shadows == ShadowMode::Planar {
+            0x80
+        } else {
+            0xff
+        };
+        let lit_where_zero = wgpu::StencilFaceState {
+            compare: wgpu::CompareFunction::Equal,
+            fail_op: wgpu::StencilOperation::Keep,
+            depth_fail_op: wgpu::StencilOperation::Keep,
+            pass_op: wgpu::StencilOperation::Keep,
+        };
+        let stencil = if options.shadows.uses_stencil() {
+            wgpu::StencilState {
+                front: lit_where_zero,
+                back: lit_where_zero,
+                read_mask,
+                write_mask: 0,
+            }
+        } else {
+            Default::default()
+        };
+        let add = wgpu::BlendComponent {
+            src_factor: wgpu::BlendFactor::One,
+            dst_factor: wgpu::BlendFactor::One,
+            operation: wgpu::BlendOperation::Add,
+        };
+        let light_pipeline = shading(
+            "light",
+            "fs_light",
+            stencil,
+            Some(wgpu::BlendState {
+                color: add,
+                alpha: add,
+            }),
+        );
         let filter = if options.pcf == 1 {
             wgpu::FilterMode::Nearest
         } else {
@@ -258,68 +460,69 @@ impl ForwardRenderer {
             compare: Some(wgpu::CompareFunction::GreaterEqual),
             ..Default::default()
         });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("penumbra forward"),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        });
-        let vec3_buffer = |location| wgpu::VertexBufferLayout {
-            array_stride: 12,
-            step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: if location == 0 {
-                &wgpu::vertex_attr_array![0 => Float32x3]
-            } else {
-                &wgpu::vertex_attr_array![1 => Float32x3]
-            },
-        };
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("penumbra forward"),
-            layout: Some(&pipeline_layout),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_main"),
-                compilation_options: Default::default(),
-                buffers: &[Some(vec3_buffer(0)), Some(vec3_buffer(1))],
-            },
-            primitive: wgpu::PrimitiveState {
-                topology: wgpu::PrimitiveTopology::TriangleList,
-                front_face: wgpu::FrontFace::Ccw,
-                cull_mode: None,
-                ..Default::default()
-            },
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: DEPTH_FORMAT,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Greater),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
-            multisample: wgpu::MultisampleState {
-                count: msaa,
-                ..Default::default()
-            },
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_main"),
-                compilation_options: Default::default(),
-                targets: &[Some(wgpu::ColorTargetState {
-                    format: COLOR_FORMAT,
-                    blend: None,
-                    write_mask: wgpu::ColorWrites::ALL,
-                })],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
+        let volumes = (options.shadows == ShadowMode::Volume)
+            .then(|| ShadowVolumes::new(device, &params_layout, depth_format, msaa));
+        let planar = (options.shadows == ShadowMode::Planar)
+            .then(|| PlanarShadows::new(device, &params_layout, depth_format, msaa));
         Ok(Self {
-            pipeline,
             layout,
+            params_layout,
+            depth_pipeline,
+            forward_pipeline,
+            base_pipeline,
+            light_pipeline,
             shadow_pipeline,
             shadow_layout,
             shadow_sampler,
+            culling: LightCulling::new(device, msaa),
+            volumes,
+            planar,
+            depth_format,
             options,
-            msaa,
         })
+    }
+
+    fn targets(&self, device: &wgpu::Device, width: u32, height: u32) -> Targets {
+        let size = wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        };
+        let target = |label: &str, format, samples, usage| {
+            device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size,
+                mip_level_count: 1,
+                sample_count: samples,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage,
+                view_formats: &[],
+            })
+        };
+        let attach = wgpu::TextureUsages::RENDER_ATTACHMENT;
+        let msaa = self.options.msaa;
+        let resolved = target(
+            "colour",
+            COLOR_FORMAT,
+            1,
+            attach | wgpu::TextureUsages::COPY_SRC,
+        );
+        let multisampled = (msaa > 1).then(|| target("colour msaa", COLOR_FORMAT, msaa, attach));
+        let depth = target(
+            "depth",
+            self.depth_format,
+            msaa,
+            attach | wgpu::TextureUsages::TEXTURE_BINDING,
+        );
+        Targets {
+            resolved_view: resolved.create_view(&Default::default()),
+            multisampled_view: multisampled
+                .as_ref()
+                .map(|t| t.create_view(&Default::default())),
+            depth_view: depth.create_view(&Default::default()),
+            resolved,
+        }
     }
 
     /// Renders `scene` through `camera` at `width`×`height`.
@@ -339,195 +542,108 @@ impl ForwardRenderer {
                 "resolution {width}x{height} (the adapter allows 1 to {max_dim} per edge)"
             )));
         }
-        let data = SceneData::from_scene(scene);
-        let bounds = scene
-            .bounds()
-            .unwrap_or((Vec3::splat(-1.0), Vec3::splat(1.0)));
-        let cam = gpu_camera(camera, width, height, bounds, data.lights.len() as u32);
-
-        let init = |label: &str, contents: &[u8], usage| {
-            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some(label),
-                contents,
-                usage,
-            })
-        };
-        let storage = wgpu::BufferUsages::STORAGE;
-        let camera_buf = init(
-            "camera",
-            bytemuck::bytes_of(&cam),
-            wgpu::BufferUsages::UNIFORM,
-        );
-        let mut instances = data.instances.clone();
-        if instances.is_empty() {
-            instances.push(GpuInstance::default());
-        }
-        let mut lights = data.lights.clone();
-        if lights.is_empty() {
-            lights.push(GpuLight::default());
-        }
-        let instance_buf = init("instances", bytemuck::cast_slice(&instances), storage);
-        let material_buf = init("materials", bytemuck::cast_slice(&data.materials), storage);
-        let light_buf = init("lights", bytemuck::cast_slice(&lights), storage);
         let o = self.options;
-        let (mut shadows, mut views) = match o.shadows {
-            ShadowMode::Map => shadow_views(
-                &scene.lights,
-                bounds,
-                o.shadow_map_size,
-                o.pcf,
-                o.normal_offset,
-            ),
-            ShadowMode::None => (Vec::new(), Vec::new()),
-        };
-        let layers = views.len() as u32;
-        let max_layers = device.limits().max_texture_array_layers;
-        if layers > max_layers {
-            return Err(GpuError::Unsupported(format!(
-                "{layers} shadow-map layers (the adapter allows {max_layers}; a point light takes 6)"
-            )));
+        let gpu = SceneGpu::upload(device, scene, camera, width, height);
+        let mut warnings = gpu.data.warnings.clone();
+        let light_count = gpu.light_count;
+        let shadow_maps = ShadowMapFrame::new(
+            device,
+            o.shadows == ShadowMode::Map,
+            &scene.lights,
+            gpu.data.lights.len(),
+            gpu.bounds,
+            o.shadow_map_size,
+            o.pcf,
+            o.normal_offset,
+        )?;
+        let (view, proj) = view_and_projection(camera, width, height, gpu.bounds);
+        let culled = !o.shadows.uses_stencil() && o.light_culling;
+        if culled && light_count > MAX_CULLED_LIGHTS {
+            warnings.push(format!(
+                "raster: {light_count} lights: more than the {MAX_CULLED_LIGHTS} light culling handles; every pixel shades every light"
+            ));
         }
-        shadows.resize(lights.len(), GpuShadow::default());
-        if views.is_empty() {
-            views.push(GpuShadowView::default());
-        }
-        let map_size = if layers > 0 { o.shadow_map_size } else { 1 };
-        let shadow_map = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("shadow maps"),
-            size: wgpu::Extent3d {
-                width: map_size,
-                height: map_size,
-                depth_or_array_layers: layers.max(1),
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: DEPTH_FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-            view_formats: &[],
-        });
-        let shadow_array_view = shadow_map.create_view(&wgpu::TextureViewDescriptor {
-            dimension: Some(wgpu::TextureViewDimension::D2Array),
-            ..Default::default()
-        });
-        let shadow_buf = init("shadows", bytemuck::cast_slice(&shadows), storage);
-        let view_buf = init("shadow views", bytemuck::cast_slice(&views), storage);
+        let culling = LightCulling::frame(
+            device,
+            culled,
+            view,
+            proj,
+            &gpu.data.lights,
+            width,
+            height,
+            o.msaa,
+        );
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("penumbra forward"),
             layout: &self.layout,
             entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: camera_buf.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: instance_buf.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: material_buf.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: light_buf.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 4,
-                    resource: shadow_buf.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 5,
-                    resource: view_buf.as_entire_binding(),
-                },
+                whole(0, &gpu.camera),
+                whole(1, &gpu.instances),
+                whole(2, &gpu.materials),
+                whole(3, &gpu.lights),
+                whole(4, &shadow_maps.shadows),
+                whole(5, &shadow_maps.views),
                 wgpu::BindGroupEntry {
                     binding: 6,
-                    resource: wgpu::BindingResource::TextureView(&shadow_array_view),
+                    resource: wgpu::BindingResource::TextureView(&shadow_maps.array_view),
                 },
                 wgpu::BindGroupEntry {
                     binding: 7,
                     resource: wgpu::BindingResource::Sampler(&self.shadow_sampler),
                 },
+                whole(10, &culling.tile_lights),
+                whole(11, &culling.uniform_buffer),
             ],
         });
         let shadow_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("penumbra shadow"),
             layout: &self.shadow_layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: instance_buf.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 5,
-                    resource: view_buf.as_entire_binding(),
-                },
-            ],
+            entries: &[whole(1, &gpu.instances), whole(5, &shadow_maps.views)],
         });
-        let meshes: Vec<Option<GpuMesh>> = scene
-            .meshes
-            .iter()
-            .map(|m| {
-                if m.indices.is_empty() || m.positions.is_empty() {
-                    return None;
+
+        // Stencil shadows: the receivers or volumes, and a parameter slot
+        // per (light, receiver) or per light.
+        let planar_frame = self.planar.as_ref().map(|p| {
+            let (receivers, w) = planar_receivers(scene);
+            warnings.extend(w);
+            p.frame(device, &gpu, receivers)
+        });
+        let volume_frame = match &self.volumes {
+            Some(v) => {
+                let limit = ShadowVolumes::max_triangles(device);
+                if let Some(inst) = scene
+                    .instances
+                    .iter()
+                    .find(|i| scene.meshes[i.mesh].indices.len() as u64 > limit)
+                {
+                    return Err(GpuError::Unsupported(format!(
+                        "mesh '{}' has more than {limit} triangles, the most one shadow-volume dispatch covers",
+                        scene.meshes[inst.mesh].name
+                    )));
                 }
-                let vertex = wgpu::BufferUsages::VERTEX;
-                let flat = |v: &[Vec3]| v.iter().map(|p| p.to_array()).collect::<Vec<[f32; 3]>>();
-                Some(GpuMesh {
-                    positions: init(
-                        "positions",
-                        bytemuck::cast_slice(&flat(&m.positions)),
-                        vertex,
-                    ),
-                    normals: m
-                        .normals
-                        .as_ref()
-                        .map(|n| init("normals", bytemuck::cast_slice(&flat(n)), vertex)),
-                    indices: init(
-                        "indices",
-                        bytemuck::cast_slice(&m.indices),
-                        wgpu::BufferUsages::INDEX,
-                    ),
-                    index_count: (m.indices.len() * 3) as u32,
-                })
+                Some(v.frame(device, scene, &gpu))
+            }
+            None => None,
+        };
+        let per_light = planar_frame
+            .as_ref()
+            .map_or(1, |f| f.receivers.len().max(1));
+        let slots: Vec<GpuPassParams> = (0..light_count as usize * per_light)
+            .map(|i| GpuPassParams {
+                light: (i / per_light) as u32,
+                receiver: (i % per_light) as u32,
+                ..Default::default()
             })
             .collect();
+        let params = PassParams::new(device, &self.params_layout, &slots);
 
-        let size = wgpu::Extent3d {
-            width,
-            height,
-            depth_or_array_layers: 1,
+        let targets = self.targets(device, width, height);
+        let stencil_passes = if o.shadows == ShadowMode::Volume {
+            3
+        } else {
+            2
         };
-        let target = |label: &str, format, samples, usage| {
-            device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size,
-                mip_level_count: 1,
-                sample_count: samples,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage,
-                view_formats: &[],
-            })
-        };
-        let attach = wgpu::TextureUsages::RENDER_ATTACHMENT;
-        let resolved = target(
-            "colour",
-            COLOR_FORMAT,
-            1,
-            attach | wgpu::TextureUsages::COPY_SRC,
-        );
-        let multisampled =
-            (self.msaa > 1).then(|| target("colour msaa", COLOR_FORMAT, self.msaa, attach));
-        let depth = target("depth", DEPTH_FORMAT, self.msaa, attach);
-        let resolved_view = resolved.create_view(&Default::default());
-        let ms_view = multisampled
-            .as_ref()
-            .map(|t| t.create_view(&Default::default()));
-        let depth_view = depth.create_view(&Default::default());
-
-        // One timed pass per shadow-map layer, plus the forward pass.
-        let timer = GpuTimer::new(ctx, layers + 1);
+        let timer = GpuTimer::new(ctx, shadow_maps.layers + 4 + stencil_passes * light_count);
 
         let bytes_per_row = (width * 16).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
             * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
@@ -539,95 +655,126 @@ impl ForwardRenderer {
         });
 
         let bg = scene.background;
+        let clear = wgpu::LoadOp::Clear(wgpu::Color {
+            r: bg.x as f64,
+            g: bg.y as f64,
+            b: bg.z as f64,
+            a: 0.0,
+        });
+        let has_stencil = o.shadows.uses_stencil();
         let mut encoder = device.create_command_encoder(&Default::default());
-        let instance_count = instances.len() as u32;
-        for layer in 0..layers {
-            let view = shadow_map.create_view(&wgpu::TextureViewDescriptor {
-                dimension: Some(wgpu::TextureViewDimension::D2),
-                base_array_layer: layer,
-                array_layer_count: Some(1),
-                ..Default::default()
-            });
+        shadow_maps.record(
+            &mut encoder,
+            &self.shadow_pipeline,
+            &shadow_bind_group,
+            &gpu,
+            &timer,
+        );
+        {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("shadow"),
+                label: Some("depth prepass"),
                 color_attachments: &[],
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &view,
+                    view: &targets.depth_view,
                     depth_ops: Some(wgpu::Operations {
                         load: wgpu::LoadOp::Clear(0.0),
                         store: wgpu::StoreOp::Store,
                     }),
-                    stencil_ops: None,
+                    stencil_ops: has_stencil.then_some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(0),
+                        store: wgpu::StoreOp::Store,
+                    }),
                 }),
-                timestamp_writes: timer.render_pass(&format!("shadow map {layer}")),
+                timestamp_writes: timer.render_pass("depth prepass"),
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
-            pass.set_pipeline(&self.shadow_pipeline);
-            pass.set_bind_group(0, &shadow_bind_group, &[]);
-            for (i, inst) in scene.instances.iter().enumerate() {
-                let Some(mesh) = &meshes[inst.mesh] else {
-                    continue;
-                };
-                pass.set_vertex_buffer(0, mesh.positions.slice(..));
-                pass.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
-                let i = layer * instance_count + i as u32;
-                pass.draw_indexed(0..mesh.index_count, 0, i..i + 1);
-            }
+            pass.set_pipeline(&self.depth_pipeline);
+            pass.set_bind_group(0, &bind_group, &[]);
+            pass.set_bind_group(1, &params.bind_group, &[0]);
+            gpu.draw_all(&mut pass, false, 0);
         }
-        {
-            let (view, resolve_target) = match &ms_view {
-                Some(ms) => (ms, Some(&resolved_view)),
-                None => (&resolved_view, None),
-            };
+        if !has_stencil {
+            self.culling.record(
+                device,
+                &mut encoder,
+                &culling,
+                &targets.depth_view,
+                timer.compute_pass("light culling"),
+            );
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("forward"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view,
-                    depth_slice: None,
-                    resolve_target,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color {
-                            r: bg.x as f64,
-                            g: bg.y as f64,
-                            b: bg.z as f64,
-                            a: 0.0,
-                        }),
-                        store: wgpu::StoreOp::Store,
-                    },
-                })],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &depth_view,
-                    depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(0.0),
-                        store: wgpu::StoreOp::Discard,
-                    }),
-                    stencil_ops: None,
-                }),
+                color_attachments: &[Some(targets.colour(clear, true))],
+                depth_stencil_attachment: Some(targets.depth_loaded(false)),
                 timestamp_writes: timer.render_pass("forward"),
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
-            pass.set_pipeline(&self.pipeline);
+            pass.set_pipeline(&self.forward_pipeline);
             pass.set_bind_group(0, &bind_group, &[]);
-            for (i, inst) in scene.instances.iter().enumerate() {
-                let Some(mesh) = &meshes[inst.mesh] else {
-                    continue;
-                };
-                pass.set_vertex_buffer(0, mesh.positions.slice(..));
-                pass.set_vertex_buffer(
-                    1,
-                    mesh.normals.as_ref().unwrap_or(&mesh.positions).slice(..),
-                );
-                pass.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
-                let i = i as u32;
-                pass.draw_indexed(0..mesh.index_count, 0, i..i + 1);
+            pass.set_bind_group(1, &params.bind_group, &[0]);
+            gpu.draw_all(&mut pass, true, 0);
+        } else {
+            {
+                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("base"),
+                    color_attachments: &[Some(targets.colour(clear, light_count == 0))],
+                    depth_stencil_attachment: Some(targets.depth_loaded(true)),
+                    timestamp_writes: timer.render_pass("base"),
+                    occlusion_query_set: None,
+                    multiview_mask: None,
+                });
+                pass.set_pipeline(&self.base_pipeline);
+                pass.set_bind_group(0, &bind_group, &[]);
+                pass.set_bind_group(1, &params.bind_group, &[0]);
+                gpu.draw_all(&mut pass, true, 0);
+            }
+            for light in 0..light_count {
+                let slot = light as usize * per_light;
+                let offset = PassParams::offset(slot);
+                if let (Some(v), Some(frame)) = (&self.volumes, &volume_frame) {
+                    v.record(
+                        &mut encoder,
+                        frame,
+                        &params.bind_group,
+                        offset,
+                        light,
+                        &targets.depth_view,
+                        &timer,
+                    );
+                }
+                if let (Some(p), Some(frame)) = (&self.planar, &planar_frame) {
+                    p.record(
+                        &mut encoder,
+                        frame,
+                        &gpu,
+                        &params.bind_group,
+                        slot,
+                        light,
+                        &targets.depth_view,
+                        &timer,
+                    );
+                }
+                let last = light + 1 == light_count;
+                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("light"),
+                    color_attachments: &[Some(targets.colour(wgpu::LoadOp::Load, last))],
+                    depth_stencil_attachment: Some(targets.depth_loaded(true)),
+                    timestamp_writes: timer.render_pass(&format!("light {light}")),
+                    occlusion_query_set: None,
+                    multiview_mask: None,
+                });
+                pass.set_pipeline(&self.light_pipeline);
+                pass.set_bind_group(0, &bind_group, &[]);
+                pass.set_bind_group(1, &params.bind_group, &[offset]);
+                pass.set_stencil_reference(0);
+                gpu.draw_all(&mut pass, true, 0);
             }
         }
         timer.resolve(&mut encoder);
         encoder.copy_texture_to_buffer(
             wgpu::TexelCopyTextureInfo {
-                texture: &resolved,
+                texture: &targets.resolved,
                 mip_level: 0,
                 origin: wgpu::Origin3d::ZERO,
                 aspect: wgpu::TextureAspect::All,
@@ -640,7 +787,11 @@ impl ForwardRenderer {
                     rows_per_image: Some(height),
                 },
             },
-            size,
+            wgpu::Extent3d {
+                width,
+                height,
+                depth_or_array_layers: 1,
+            },
         );
         let frame_start = Instant::now();
         ctx.queue.submit([encoder.finish()]);
@@ -662,7 +813,7 @@ impl ForwardRenderer {
             total_ms: start.elapsed().as_secs_f64() * 1e3,
             frame_ms,
             passes,
-            warnings: data.warnings,
+            warnings,
         })
     }
 }

@@ -1,19 +1,82 @@
 //! The WGSL sources: the shading library (BRDF and light twins of the Rust
-//! models) and the forward pass built on it.
+//! models), the structs every pass shares with the host, and the passes
+//! built on them. Each pass module is the library followed by the pass.
 
-/// Structs, BRDFs and lights shared by every pass and by the tests.
+/// BRDFs and lights shared by every pass and by the tests.
 pub const SHADING_WGSL: &str = include_str!("shaders/shading.wgsl");
 
-/// The forward pass (vertex and fragment entry points), without the library.
+/// Host-shared structs of the raster passes (camera, instances, shadows,
+/// culling, per-pass parameters).
+pub const SCENE_WGSL: &str = include_str!("shaders/scene.wgsl");
+
+/// The geometry passes (depth prepass, forward, base, one-light, shadow
+/// map), without the library.
 pub const FORWARD_WGSL: &str = include_str!("shaders/forward.wgsl");
 
-/// The complete forward shader module: library + pass.
+/// Tiled light culling (compute).
+pub const LIGHT_CULLING_WGSL: &str = include_str!("shaders/light_culling.wgsl");
+
+/// Stencil shadow volumes: bindings and geometry shared by both passes.
+pub const SHADOW_VOLUME_WGSL: &str = include_str!("shaders/shadow_volume.wgsl");
+/// Shadow volumes: the facing compute pass.
+pub const SHADOW_VOLUME_FACING_WGSL: &str = include_str!("shaders/shadow_volume_facing.wgsl");
+/// Shadow volumes: the cap and edge extrusion draws.
+pub const SHADOW_VOLUME_DRAW_WGSL: &str = include_str!("shaders/shadow_volume_draw.wgsl");
+
+/// Planar projected shadows (receiver marking, projected occluders).
+pub const PLANAR_SHADOW_WGSL: &str = include_str!("shaders/planar_shadow.wgsl");
+
+/// The complete forward shader module: library + structs + pass.
 pub fn forward_source() -> String {
-    format!("{SHADING_WGSL}\n{FORWARD_WGSL}")
+    format!("{SHADING_WGSL}\n{SCENE_WGSL}\n{FORWARD_WGSL}")
+}
+
+/// The light-culling module for a single- or multisampled depth buffer.
+pub fn light_culling_source(multisampled: bool) -> String {
+    let (texture, load) = if multisampled {
+        (
+            "texture_depth_multisampled_2d",
+            "textureLoad(depth, vec2<i32>(px), i32(s))",
+        )
+    } else {
+        ("texture_depth_2d", "textureLoad(depth, vec2<i32>(px), 0)")
+    };
+    let pass = LIGHT_CULLING_WGSL
+        .replace("DEPTH_TEXTURE", texture)
+        .replace("LOAD_DEPTH", load);
+    format!("{SHADING_WGSL}\n{SCENE_WGSL}\n{pass}")
+}
+
+/// The shadow-volume module: the facing compute pass (`facing_pass`) or
+/// the stencil draws.
+pub fn shadow_volume_source(facing_pass: bool) -> String {
+    let pass = if facing_pass {
+        SHADOW_VOLUME_FACING_WGSL
+    } else {
+        SHADOW_VOLUME_DRAW_WGSL
+    };
+    format!("{SHADING_WGSL}\n{SCENE_WGSL}\n{SHADOW_VOLUME_WGSL}\n{pass}")
+}
+
+/// The planar-shadow module.
+pub fn planar_shadow_source() -> String {
+    format!("{SHADING_WGSL}\n{SCENE_WGSL}\n{PLANAR_SHADOW_WGSL}")
+}
+
+/// Every pass module the renderer builds, by name (for the layout tests).
+pub fn all_modules() -> Vec<(&'static str, String)> {
+    vec![
+        ("forward", forward_source()),
+        ("light culling (1 sample)", light_culling_source(false)),
+        ("light culling (multisampled)", light_culling_source(true)),
+        ("shadow volume (facing)", shadow_volume_source(true)),
+        ("shadow volume (draw)", shadow_volume_source(false)),
+        ("planar shadow", planar_shadow_source()),
+    ]
 }
 
 /// A shader module made of the library followed by `entry_points`
-/// (compute kernels of the tests, further passes).
+/// (compute kernels of the tests).
 pub fn with_library(entry_points: &str) -> String {
     format!("{SHADING_WGSL}\n{entry_points}")
 }

@@ -156,6 +156,126 @@ pub fn shadow_views(
     (shadows, views)
 }
 
+/// One frame's shadow-map array and the per-light lookup data.
+pub(crate) struct ShadowMapFrame {
+    texture: wgpu::Texture,
+    pub array_view: wgpu::TextureView,
+    pub shadows: wgpu::Buffer,
+    pub views: wgpu::Buffer,
+    pub layers: u32,
+}
+
+impl ShadowMapFrame {
+    /// The views of `lights` (none when `enabled` is false: a 1×1 dummy
+    /// array and unshadowed lights), `light_slots` GpuShadow entries.
+    #[allow(clippy::too_many_arguments)]
+    pub fn new(
+        device: &wgpu::Device,
+        enabled: bool,
+        lights: &[penumbra_scene::SceneLight],
+        light_slots: usize,
+        bounds: (Vec3, Vec3),
+        size: u32,
+        pcf: u32,
+        normal_offset: f32,
+    ) -> Result<Self, crate::GpuError> {
+        let (mut shadows, mut views) = if enabled {
+            shadow_views(lights, bounds, size, pcf, normal_offset)
+        } else {
+            (Vec::new(), Vec::new())
+        };
+        let layers = views.len() as u32;
+        let max_layers = device.limits().max_texture_array_layers;
+        if layers > max_layers {
+            return Err(crate::GpuError::Unsupported(format!(
+                "{layers} shadow-map layers (the adapter allows {max_layers}; a point light takes 6)"
+            )));
+        }
+        shadows.resize(light_slots.max(1), GpuShadow::default());
+        if views.is_empty() {
+            views.push(GpuShadowView::default());
+        }
+        let map_size = if layers > 0 { size } else { 1 };
+        let texture = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("shadow maps"),
+            size: wgpu::Extent3d {
+                width: map_size,
+                height: map_size,
+                depth_or_array_layers: layers.max(1),
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: SHADOW_MAP_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        });
+        let array_view = texture.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            ..Default::default()
+        });
+        let storage = wgpu::BufferUsages::STORAGE;
+        Ok(Self {
+            array_view,
+            shadows: crate::scene_gpu::buffer_init(
+                device,
+                "shadows",
+                bytemuck::cast_slice(&shadows),
+                storage,
+            ),
+            views: crate::scene_gpu::buffer_init(
+                device,
+                "shadow views",
+                bytemuck::cast_slice(&views),
+                storage,
+            ),
+            texture,
+            layers,
+        })
+    }
+
+    /// Records one depth pass per layer: every instance through the layer's
+    /// view (instance index = layer · instance count + instance).
+    pub fn record(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        pipeline: &wgpu::RenderPipeline,
+        bind_group: &wgpu::BindGroup,
+        gpu: &crate::scene_gpu::SceneGpu,
+        timer: &crate::timing::GpuTimer,
+    ) {
+        for layer in 0..self.layers {
+            let view = self.texture.create_view(&wgpu::TextureViewDescriptor {
+                dimension: Some(wgpu::TextureViewDimension::D2),
+                base_array_layer: layer,
+                array_layer_count: Some(1),
+                ..Default::default()
+            });
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("shadow map"),
+                color_attachments: &[],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &view,
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(0.0),
+                        store: wgpu::StoreOp::Store,
+                    }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: timer.render_pass(&format!("shadow map {layer}")),
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, bind_group, &[]);
+            gpu.draw_all(&mut pass, false, layer * gpu.instance_count);
+        }
+    }
+}
+
+/// Depth format of the shadow maps.
+pub(crate) const SHADOW_MAP_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
 #[cfg(test)]
 mod tests {
     use super::*;

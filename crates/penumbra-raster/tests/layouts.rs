@@ -6,7 +6,7 @@ mod common;
 
 use naga::proc::Layouter;
 use penumbra_raster::gpu::{HostLayout, gpu_structs};
-use penumbra_raster::shaders::{forward_source, with_library};
+use penumbra_raster::shaders::{all_modules, forward_source, with_library};
 use std::collections::BTreeMap;
 
 /// (size, [(member name, offset)]) of every named struct in `source`.
@@ -51,18 +51,27 @@ fn check(host: &[HostLayout], source: &str) -> usize {
 }
 
 #[test]
-fn forward_structs_match_wgsl() {
+fn every_pass_module_validates_and_its_structs_match_the_host() {
     let host = gpu_structs();
-    let source = forward_source();
-    check(&host, &source);
-    // Every struct named Gpu* in the shaders is uploaded by the host, so it
-    // must have a host twin in the list.
-    for name in wgsl_structs(&source).keys() {
-        if name.starts_with("Gpu") {
-            assert!(
-                host.iter().any(|h| h.wgsl_name == name),
-                "WGSL struct {name} has no #[repr(C)] host twin in gpu_structs()"
-            );
+    for (name, source) in all_modules() {
+        let module = naga::front::wgsl::parse_str(&source)
+            .unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(&source)));
+        naga::valid::Validator::new(
+            naga::valid::ValidationFlags::all(),
+            naga::valid::Capabilities::default(),
+        )
+        .validate(&module)
+        .unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(&source)));
+        check(&host, &source);
+        // Every struct named Gpu* in the shaders is uploaded by the host, so
+        // it must have a host twin in the list.
+        for struct_name in wgsl_structs(&source).keys() {
+            if struct_name.starts_with("Gpu") {
+                assert!(
+                    host.iter().any(|h| h.wgsl_name == struct_name),
+                    "{name}: WGSL struct {struct_name} has no #[repr(C)] host twin in gpu_structs()"
+                );
+            }
         }
     }
 }

@@ -1,64 +1,25 @@
-// Forward pass: one draw per instance, per-pixel sum over every abstract
-// light of f · E⊥ · cos θ plus the material's emission (the CPU `local`
-// integrator's model), each light optionally weighted by its shadow-map
-// visibility (the CPU `direct` integrator's hard shadows, approximated).
-// Also the depth-only vertex stage of the shadow passes. Appended to
-// shading.wgsl.
-
-struct GpuCamera {
-    view_proj: mat4x4<f32>,
-    // World position of the pinhole (perspective).
-    eye: vec4<f32>,
-    // World +z axis of the camera (towards the viewer); w = 1 orthographic.
-    back: vec4<f32>,
-    light_count: u32,
-    _pad0: u32,
-    _pad1: u32,
-    _pad2: u32,
-}
-
-struct GpuInstance {
-    model: mat4x4<f32>,
-    // Inverse transpose of the linear part (columns 0..2).
-    normal: mat4x4<f32>,
-    material: u32,
-    has_normals: u32,
-    flip_winding: u32,
-    _pad0: u32,
-}
+// The geometry passes over the scene's instances, one draw per instance:
+//  - vs_depth: the depth prepass (reversed depth, no colour);
+//  - vs_main + fs_forward: per-pixel sum over the lights of the pixel's
+//    tile (tiled light culling) of f · E⊥ · cos θ plus emission, each light
+//    optionally weighted by its shadow-map visibility;
+//  - vs_main + fs_base: emission only (the base of the per-light passes);
+//  - vs_main + fs_light: one light (params.light), added where the stencil
+//    says the light is not shadowed (shadow volumes, planar shadows);
+//  - vs_shadow: the depth-only shadow-map passes.
+// Appended to shading.wgsl + scene.wgsl.
 
 @group(0) @binding(0) var<uniform> camera: GpuCamera;
 @group(0) @binding(1) var<storage, read> instances: array<GpuInstance>;
 @group(0) @binding(2) var<storage, read> materials: array<GpuMaterial>;
 @group(0) @binding(3) var<storage, read> lights: array<GpuLight>;
-
-// How each light is shadowed (mirrors gpu.rs `GpuShadow`), indexed like
-// `lights`; layer_count = 0: not shadowed.
-struct GpuShadow {
-    first_layer: u32,
-    // 1: one view (directional, spot); 6: cube faces +x, -x, +y, -y, +z, -z.
-    layer_count: u32,
-    // PCF kernel edge N: N x N taps one texel apart.
-    pcf: u32,
-    perspective: u32,
-    // World size of a texel (orthographic) or per unit distance (perspective).
-    texel: f32,
-    // Normal offset of the lookup point, in texels.
-    normal_offset: f32,
-    map_size: f32,
-    _pad0: f32,
-}
-
-// One depth-only view of a light: world to clip with reversed depth.
-struct GpuShadowView {
-    view_proj: mat4x4<f32>,
-    axis: vec4<f32>,
-}
-
 @group(0) @binding(4) var<storage, read> shadows: array<GpuShadow>;
 @group(0) @binding(5) var<storage, read> shadow_views: array<GpuShadowView>;
 @group(0) @binding(6) var shadow_maps: texture_depth_2d_array;
 @group(0) @binding(7) var shadow_sampler: sampler_comparison;
+@group(0) @binding(10) var<storage, read> tile_lights: array<u32>;
+@group(0) @binding(11) var<uniform> culling: GpuCulling;
+@group(1) @binding(0) var<uniform> params: GpuPassParams;
 
 // Shadow passes: instance_index = view * instance count + instance, so that
 // one draw call per (view, instance) needs no per-view uniform.
@@ -69,8 +30,8 @@ fn vs_shadow(
 ) -> @builtin(position) vec4<f32> {
     let n = arrayLength(&instances);
     let inst = instances[index % n];
-    let world = inst.model * vec4<f32>(position, 1.0);
-    return shadow_views[index / n].view_proj * vec4<f32>(world.xyz, 1.0);
+    let world = world_point(inst.model, position);
+    return shadow_views[index / n].view_proj * vec4<f32>(world, 1.0);
 }
 
 // Fraction of light `li` reaching p (1 = lit): the lookup point is moved
@@ -127,10 +88,21 @@ fn shadow_visibility(li: u32, p: vec3<f32>, ng: vec3<f32>) -> f32 {
 }
 
 struct VsOut {
-    @builtin(position) clip: vec4<f32>,
+    @builtin(position) @invariant clip: vec4<f32>,
     @location(0) world: vec3<f32>,
     @location(1) normal: vec3<f32>,
     @location(2) @interpolate(flat) instance: u32,
+}
+
+// Depth prepass: the same clip position as vs_main (both @invariant), so
+// that the shading passes can test depth with GreaterEqual.
+@vertex
+fn vs_depth(
+    @location(0) position: vec3<f32>,
+    @builtin(instance_index) instance: u32,
+) -> @invariant @builtin(position) vec4<f32> {
+    let world = world_point(instances[instance].model, position);
+    return camera.view_proj * vec4<f32>(world, 1.0);
 }
 
 @vertex
@@ -140,10 +112,10 @@ fn vs_main(
     @builtin(instance_index) instance: u32,
 ) -> VsOut {
     let inst = instances[instance];
-    let world = inst.model * vec4<f32>(position, 1.0);
+    let world = world_point(inst.model, position);
     var out: VsOut;
-    out.clip = camera.view_proj * vec4<f32>(world.xyz, 1.0);
-    out.world = world.xyz;
+    out.clip = camera.view_proj * vec4<f32>(world, 1.0);
+    out.world = world;
     out.normal = (inst.normal * vec4<f32>(normal, 0.0)).xyz;
     out.instance = instance;
     return out;
@@ -220,10 +192,10 @@ fn surface_of(in: VsOut, facing: bool, ng_raw: vec3<f32>) -> Surface {
     return s;
 }
 
-// Radiance towards the viewer from light i: f · E⊥ · |cos θ| · shadow-map
-// visibility, 0 where the light is below the geometric surface or the
-// shading and geometric normals disagree about its side.
-fn light_contribution(s: Surface, i: u32) -> vec3<f32> {
+// Radiance towards the viewer from light i without shadows: f · E⊥ ·
+// |cos θ|, 0 where the light is below the geometric surface or the shading
+// and geometric normals disagree about its side (the CPU `local` model).
+fn unshadowed_contribution(s: Surface, i: u32) -> vec3<f32> {
     let l = light_li(lights[i], s.p);
     if l.valid == 0u {
         return vec3<f32>(0.0);
@@ -231,21 +203,63 @@ fn light_contribution(s: Surface, i: u32) -> vec3<f32> {
     let wl = to_local(s.frame, l.wi);
     let g = dot(l.wi, s.ng);
     if g != 0.0 && wl.z != 0.0 && (g > 0.0) == (wl.z > 0.0) {
-        let v = shadow_visibility(i, s.p, s.ng);
-        return material_eval(materials[s.material], s.wo_local, wl) * l.value * (abs(wl.z) * v);
+        return material_eval(materials[s.material], s.wo_local, wl) * l.value * abs(wl.z);
     }
     return vec3<f32>(0.0);
 }
 
+// The same times the light's shadow-map visibility (1 without a map).
+fn light_contribution(s: Surface, i: u32) -> vec3<f32> {
+    let c = unshadowed_contribution(s, i);
+    if all(c == vec3<f32>(0.0)) {
+        return c;
+    }
+    return c * shadow_visibility(i, s.p, s.ng);
+}
+
+// First word of the light list of the tile holding pixel `frag`.
+fn tile_list(frag: vec2<f32>) -> u32 {
+    let t = vec2<u32>(frag) / TILE;
+    return (t.y * culling.tiles_x + t.x) * (culling.max_per_tile + 1u);
+}
+
 @fragment
-fn fs_main(in: VsOut, @builtin(front_facing) facing: bool) -> @location(0) vec4<f32> {
+fn fs_forward(in: VsOut, @builtin(front_facing) facing: bool) -> @location(0) vec4<f32> {
     let s = surface_of(in, facing, cross(dpdx(in.world), dpdy(in.world)));
     var radiance = s.emission;
     if s.lit == 0u {
         return vec4<f32>(radiance, 1.0);
     }
-    for (var i = 0u; i < camera.light_count; i++) {
-        radiance += light_contribution(s, i);
+    var count = TILE_OVERFLOW;
+    var base = 0u;
+    if culling.enabled != 0u {
+        base = tile_list(in.clip.xy);
+        count = tile_lights[base];
+    }
+    if count == TILE_OVERFLOW {
+        for (var i = 0u; i < camera.light_count; i++) {
+            radiance += light_contribution(s, i);
+        }
+    } else {
+        // Increasing light order, as the loop above: the same sum.
+        for (var k = 0u; k < count; k++) {
+            radiance += light_contribution(s, tile_lights[base + 1u + k]);
+        }
     }
     return vec4<f32>(radiance, 1.0);
+}
+
+@fragment
+fn fs_base(in: VsOut, @builtin(front_facing) facing: bool) -> @location(0) vec4<f32> {
+    let s = surface_of(in, facing, cross(dpdx(in.world), dpdy(in.world)));
+    return vec4<f32>(s.emission, 1.0);
+}
+
+@fragment
+fn fs_light(in: VsOut, @builtin(front_facing) facing: bool) -> @location(0) vec4<f32> {
+    let s = surface_of(in, facing, cross(dpdx(in.world), dpdy(in.world)));
+    if s.lit == 0u {
+        return vec4<f32>(0.0);
+    }
+    return vec4<f32>(unshadowed_contribution(s, params.light), 0.0);
 }

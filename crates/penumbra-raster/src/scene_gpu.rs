@@ -1,0 +1,280 @@
+//! The scene uploaded for one frame: camera, instances, materials, lights
+//! and one vertex/index buffer set per mesh; and the small wgpu helpers the
+//! passes share (buffer creation, bind-group entries, per-pass parameter
+//! slots).
+
+use crate::camera::gpu_camera;
+use crate::gpu::{GpuInstance, GpuLight, GpuPassParams, PASS_PARAMS_STRIDE};
+use crate::scene_data::SceneData;
+use glam::Vec3;
+use penumbra_scene::Scene;
+use penumbra_scene::camera::Camera;
+use wgpu::util::DeviceExt;
+
+/// A buffer initialised with `contents`.
+pub(crate) fn buffer_init(
+    device: &wgpu::Device,
+    label: &str,
+    contents: &[u8],
+    usage: wgpu::BufferUsages,
+) -> wgpu::Buffer {
+    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some(label),
+        contents,
+        usage,
+    })
+}
+
+/// A read-only storage-buffer binding.
+pub(crate) fn storage_entry(
+    binding: u32,
+    visibility: wgpu::ShaderStages,
+    read_only: bool,
+) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+/// A uniform-buffer binding.
+pub(crate) fn uniform_entry(
+    binding: u32,
+    visibility: wgpu::ShaderStages,
+) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+/// A bind-group entry for a whole buffer.
+pub(crate) fn whole(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+    wgpu::BindGroupEntry {
+        binding,
+        resource: buffer.as_entire_binding(),
+    }
+}
+
+/// Layout of group 1 of every pass pipeline: one [`GpuPassParams`] slot,
+/// chosen per pass with a dynamic offset.
+pub(crate) fn params_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("pass params"),
+        entries: &[wgpu::BindGroupLayoutEntry {
+            binding: 0,
+            visibility: wgpu::ShaderStages::VERTEX_FRAGMENT | wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Uniform,
+                has_dynamic_offset: true,
+                min_binding_size: wgpu::BufferSize::new(size_of::<GpuPassParams>() as u64),
+            },
+            count: None,
+        }],
+    })
+}
+
+/// Per-pass parameter slots, [`PASS_PARAMS_STRIDE`] bytes apart, and the
+/// group-1 bind group over them (offset of slot i: `i * stride`).
+pub(crate) struct PassParams {
+    _buffer: wgpu::Buffer,
+    pub bind_group: wgpu::BindGroup,
+}
+
+impl PassParams {
+    pub fn new(
+        device: &wgpu::Device,
+        layout: &wgpu::BindGroupLayout,
+        slots: &[GpuPassParams],
+    ) -> Self {
+        let stride = PASS_PARAMS_STRIDE as usize;
+        let mut bytes = vec![0u8; stride * slots.len().max(1)];
+        for (i, s) in slots.iter().enumerate() {
+            bytes[i * stride..][..size_of::<GpuPassParams>()]
+                .copy_from_slice(bytemuck::bytes_of(s));
+        }
+        let buffer = buffer_init(device, "pass params", &bytes, wgpu::BufferUsages::UNIFORM);
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("pass params"),
+            layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                    buffer: &buffer,
+                    offset: 0,
+                    size: wgpu::BufferSize::new(size_of::<GpuPassParams>() as u64),
+                }),
+            }],
+        });
+        Self {
+            _buffer: buffer,
+            bind_group,
+        }
+    }
+
+    /// Dynamic offset of slot `i`.
+    pub fn offset(i: usize) -> u32 {
+        (i as u64 * PASS_PARAMS_STRIDE) as u32
+    }
+}
+
+/// One mesh's vertex and index buffers.
+pub(crate) struct GpuMesh {
+    pub positions: wgpu::Buffer,
+    pub normals: Option<wgpu::Buffer>,
+    pub indices: wgpu::Buffer,
+    pub index_count: u32,
+}
+
+/// The scene's frame data on the GPU.
+pub(crate) struct SceneGpu {
+    pub data: SceneData,
+    pub bounds: (Vec3, Vec3),
+    pub camera: wgpu::Buffer,
+    pub instances: wgpu::Buffer,
+    pub materials: wgpu::Buffer,
+    pub lights: wgpu::Buffer,
+    /// The scene's lights (at least one entry, zeroed, for empty scenes).
+    pub light_count: u32,
+    /// Per mesh; `None` for meshes without triangles.
+    pub meshes: Vec<Option<GpuMesh>>,
+    /// Instances with triangles: (instance index, mesh index).
+    pub draws: Vec<(u32, usize)>,
+    /// Instances uploaded (at least 1).
+    pub instance_count: u32,
+}
+
+impl SceneGpu {
+    pub fn upload(
+        device: &wgpu::Device,
+        scene: &Scene,
+        camera: &Camera,
+        width: u32,
+        height: u32,
+    ) -> Self {
+        let data = SceneData::from_scene(scene);
+        let bounds = scene
+            .bounds()
+            .unwrap_or((Vec3::splat(-1.0), Vec3::splat(1.0)));
+        let light_count = data.lights.len() as u32;
+        let cam = gpu_camera(camera, width, height, bounds, light_count);
+        let storage = wgpu::BufferUsages::STORAGE;
+        let mut instances = data.instances.clone();
+        if instances.is_empty() {
+            instances.push(GpuInstance::default());
+        }
+        let mut lights = data.lights.clone();
+        if lights.is_empty() {
+            lights.push(GpuLight::default());
+        }
+        let meshes = scene
+            .meshes
+            .iter()
+            .map(|m| {
+                if m.indices.is_empty() || m.positions.is_empty() {
+                    return None;
+                }
+                let vertex = wgpu::BufferUsages::VERTEX;
+                let flat = |v: &[Vec3]| v.iter().map(|p| p.to_array()).collect::<Vec<[f32; 3]>>();
+                Some(GpuMesh {
+                    positions: buffer_init(
+                        device,
+                        "positions",
+                        bytemuck::cast_slice(&flat(&m.positions)),
+                        vertex,
+                    ),
+                    normals: m.normals.as_ref().map(|n| {
+                        buffer_init(device, "normals", bytemuck::cast_slice(&flat(n)), vertex)
+                    }),
+                    indices: buffer_init(
+                        device,
+                        "indices",
+                        bytemuck::cast_slice(&m.indices),
+                        wgpu::BufferUsages::INDEX,
+                    ),
+                    index_count: (m.indices.len() * 3) as u32,
+                })
+            })
+            .collect::<Vec<_>>();
+        let draws = scene
+            .instances
+            .iter()
+            .enumerate()
+            .filter(|(_, inst)| meshes[inst.mesh].is_some())
+            .map(|(i, inst)| (i as u32, inst.mesh))
+            .collect();
+        Self {
+            bounds,
+            camera: buffer_init(
+                device,
+                "camera",
+                bytemuck::bytes_of(&cam),
+                wgpu::BufferUsages::UNIFORM,
+            ),
+            instances: buffer_init(
+                device,
+                "instances",
+                bytemuck::cast_slice(&instances),
+                storage,
+            ),
+            materials: buffer_init(
+                device,
+                "materials",
+                bytemuck::cast_slice(&data.materials),
+                storage,
+            ),
+            lights: buffer_init(device, "lights", bytemuck::cast_slice(&lights), storage),
+            light_count,
+            meshes,
+            draws,
+            instance_count: instances.len() as u32,
+            data,
+        }
+    }
+
+    /// Draws every instance with positions in slot 0 (and normals in slot 1
+    /// when `with_normals`), instance index = `instance_base + instance`.
+    pub fn draw_all(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        with_normals: bool,
+        instance_base: u32,
+    ) {
+        for &(i, mesh) in &self.draws {
+            self.draw_instance(pass, i, mesh, with_normals, instance_base);
+        }
+    }
+
+    /// Draws one instance (see [`Self::draw_all`]).
+    pub fn draw_instance(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        instance: u32,
+        mesh: usize,
+        with_normals: bool,
+        instance_base: u32,
+    ) {
+        let Some(m) = &self.meshes[mesh] else {
+            return;
+        };
+        pass.set_vertex_buffer(0, m.positions.slice(..));
+        if with_normals {
+            pass.set_vertex_buffer(1, m.normals.as_ref().unwrap_or(&m.positions).slice(..));
+        }
+        pass.set_index_buffer(m.indices.slice(..), wgpu::IndexFormat::Uint32);
+        let i = instance_base + instance;
+        pass.draw_indexed(0..m.index_count, 0, i..i + 1);
+    }
+}
