@@ -12,120 +12,21 @@
 //! detach (no peter-panning: few CPU-shadowed pixels lit on the GPU).
 
 mod common;
+mod shadow_scene;
 
-use glam::{Mat4, Vec3};
-use penumbra_image::{Image, ToneMapping, write_image};
-use penumbra_raster::{ForwardRenderer, GpuContext, RasterOptions, ShadowMode};
-use penumbra_scene::camera::{Camera, Projection};
-use penumbra_scene::{IntegratorKind, Material, Scene, SceneLight, primitives};
-use penumbra_shading::light::{DirectionalLight, Light, PointLight, SpotLight};
-use penumbra_trace::{RenderOptions, render};
+use penumbra_raster::{GpuContext, RasterOptions, ShadowMode};
+use penumbra_scene::IntegratorKind;
+use shadow_scene::{RES, classify, cpu, lum, save, scene};
 
-const RES: u32 = 256;
 const SIZES: [u32; 4] = [512, 1024, 2048, 4096];
 const MAX_DIFF_AT_2048: f64 = 0.015;
 
-fn lum(p: Vec3) -> f32 {
-    0.2126 * p.x + 0.7152 * p.y + 0.0722 * p.z
-}
-
-fn light(which: &str) -> Light {
-    match which {
-        "directional" => Light::Directional(DirectionalLight {
-            direction: Vec3::new(1.0, -0.8, -0.6).normalize(),
-            irradiance: Vec3::splat(2.0),
-        }),
-        "spot" => {
-            let position = Vec3::new(-2.5, 5.0, 1.5);
-            Light::Spot(SpotLight {
-                position,
-                direction: (Vec3::new(0.3, 0.0, -0.3) - position).normalize(),
-                intensity: Vec3::splat(40.0),
-                cos_inner: 30f32.to_radians().cos(),
-                cos_outer: 42f32.to_radians().cos(),
-                range: f32::INFINITY,
-            })
-        }
-        "point" => Light::Point(PointLight {
-            position: Vec3::new(1.5, 3.2, 1.0),
-            intensity: Vec3::splat(20.0),
-            range: f32::INFINITY,
-        }),
-        _ => unreachable!(),
-    }
-}
-
-/// A 12 × 12 ground plane, optionally a box standing on it and a sphere
-/// floating above it, and one light.
-fn scene(which: &str, occluders: bool) -> Scene {
-    let mut scene = Scene::default();
-    let white = scene.add_material(Material::lambert("white", Vec3::splat(0.7)));
-    let red = scene.add_material(Material::lambert("red", Vec3::new(0.7, 0.2, 0.1)));
-    let mut ground = primitives::quad(
-        Vec3::new(-6.0, 0.0, 6.0),
-        Vec3::new(12.0, 0.0, 0.0),
-        Vec3::new(0.0, 0.0, -12.0),
-    );
-    ground.material = white;
-    scene.add_mesh(ground, Mat4::IDENTITY);
-    if occluders {
-        let mut b = primitives::cuboid(Vec3::new(-1.6, 0.0, -0.6), Vec3::new(-0.4, 1.2, 0.6));
-        b.material = red;
-        scene.add_mesh(b, Mat4::IDENTITY);
-        let mut s = primitives::sphere(Vec3::new(1.0, 1.4, -0.8), 0.6, 32);
-        s.material = red;
-        scene.add_mesh(s, Mat4::IDENTITY);
-    }
-    scene.lights = vec![SceneLight {
-        name: which.into(),
-        light: light(which),
-    }];
-    scene
-}
-
-fn camera() -> Camera {
-    Camera::look_at(
-        Vec3::new(0.0, 6.5, 7.5),
-        Vec3::new(0.0, 0.3, -0.3),
-        Vec3::Y,
-        Projection::Perspective {
-            fov_y: 50f32.to_radians(),
-        },
-    )
-}
-
-fn cpu(scene: &Scene, integrator: IntegratorKind) -> Image {
-    let mut scene = scene.clone();
-    scene.camera = Some(camera());
-    let mut settings = scene.settings.clone();
-    settings.width = RES;
-    settings.height = RES;
-    settings.spp = 4;
-    settings.integrator = integrator;
-    render(&scene, &settings, &RenderOptions::default()).image
-}
-
-fn raster(ctx: &GpuContext, scene: &Scene, options: RasterOptions) -> (Image, Vec<f64>) {
-    let r = ForwardRenderer::new(ctx, options).expect("renderer");
-    let out = r.render(ctx, scene, &camera(), RES, RES).expect("render");
-    assert!(out.image.all_finite());
-    let shadow_ms = out
-        .passes
-        .iter()
-        .filter(|p| p.name.starts_with("shadow map"))
-        .map(|p| p.ms)
-        .collect();
-    (out.image, shadow_ms)
-}
-
-/// Shadowed where `shadowed` < ½ · `unshadowed`.
-fn classify(shadowed: &Image, unshadowed: &Image) -> Vec<bool> {
-    shadowed
-        .pixels
-        .iter()
-        .zip(&unshadowed.pixels)
-        .map(|(s, u)| lum(*s) < 0.5 * lum(*u))
-        .collect()
+fn raster(
+    ctx: &GpuContext,
+    scene: &penumbra_scene::Scene,
+    options: RasterOptions,
+) -> (penumbra_image::Image, Vec<f64>) {
+    shadow_scene::raster(ctx, scene, options, "shadow map")
 }
 
 fn map_options(size: u32, pcf: u32) -> RasterOptions {
@@ -134,14 +35,6 @@ fn map_options(size: u32, pcf: u32) -> RasterOptions {
         shadow_map_size: size,
         pcf,
         ..Default::default()
-    }
-}
-
-fn save(name: &str, img: &Image) {
-    if std::env::var_os("PENUMBRA_TEST_IMAGES").is_some() {
-        let path = std::env::temp_dir().join(format!("shadow-{name}.png"));
-        write_image(&path, img, &[], &ToneMapping::default()).expect("write");
-        eprintln!("wrote {}", path.display());
     }
 }
 
