@@ -73,7 +73,7 @@ fn compare(
     );
     let (plain, _) = raster_with(ctx, s, camera, options(ShadowMode::None, msaa), "");
     let (img, _) = raster_with(ctx, s, camera, options(mode, msaa), "");
-    save(&format!("{name}"), &img);
+    save(name, &img);
     let gpu_shadowed = classify(&img, &plain);
     let (diff, leak, pixels) = differences(&gpu_shadowed, &cpu_shadowed, mask);
     let edge = near_edge(&cpu_shadowed);
@@ -103,6 +103,8 @@ fn assert_close(name: &str, c: &Comparison) {
     // The view must contain a real shadow, or the comparison proves nothing.
     assert!(c.shadowed > 0.02, "{name}: only {:.4} shadowed", c.shadowed);
     assert!(c.diff <= MAX_DIFF, "{name}: {:.3} % differ", 100.0 * c.diff);
+    // No light leaks into the CPU's shadows (beyond partly covered pixels).
+    assert!(c.leak <= 0.6 * MAX_DIFF, "{name}: {:.3} % leak", 100.0 * c.leak);
     assert_eq!(c.off_edge, 0, "{name}: differences away from shadow edges");
 }
 
