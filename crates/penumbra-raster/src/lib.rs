@@ -31,6 +31,7 @@ pub use wgpu;
 
 pub use camera::{gpu_camera, view_projection};
 pub use context::{AdapterSummary, GpuContext, GpuError, SOFTWARE_VULKAN_PACKAGES};
+pub use light_culling::CullingStats;
 pub use renderer::{
     ForwardRenderer, MAX_PCF, RasterOptions, RasterOutput, ShadowMode, map_read, render_scene,
 };

@@ -7,7 +7,7 @@
 //! exactly the non-zero terms of the unculled loop: culling changes no
 //! pixel (the test for tile seams compares both images).
 
-use crate::gpu::{GpuCulling, GpuLight, LIGHT_DIRECTIONAL};
+use crate::gpu::{GpuCulling, GpuLight, LIGHT_DIRECTIONAL, TILE_OVERFLOW};
 use crate::scene_gpu::{buffer_init, storage_entry, uniform_entry, whole};
 use crate::shaders::light_culling_source;
 use glam::{Mat4, Vec3};
@@ -34,6 +34,25 @@ pub(crate) struct CullingFrame {
     /// `tiles × (max_per_tile + 1)` words, written by the compute pass.
     pub tile_lights: wgpu::Buffer,
     spheres: wgpu::Buffer,
+    /// Where the tile lists are copied for [`CullingStats`], if asked for.
+    readback: Option<wgpu::Buffer>,
+}
+
+/// What the culling pass left in the tile lists (read back on request,
+/// [`crate::RasterOptions::culling_stats`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct CullingStats {
+    pub tiles: usize,
+    /// Lights in the scene.
+    pub lights: u32,
+    /// Mean list length over all tiles (overflowed tiles count every light).
+    pub mean_lights: f64,
+    /// Longest list.
+    pub max_lights: u32,
+    /// Tiles with at least one light (background-only tiles have none).
+    pub tiles_with_lights: usize,
+    /// Tiles whose list overflowed (their pixels shade every light).
+    pub overflowed: usize,
 }
 
 /// View-space bounding spheres of the lights' ranges: (centre, range), or
@@ -101,6 +120,7 @@ impl LightCulling {
     pub fn frame(
         device: &wgpu::Device,
         enabled: bool,
+        stats: bool,
         view: Mat4,
         proj: Mat4,
         lights: &[GpuLight],
@@ -132,8 +152,16 @@ impl LightCulling {
         let tile_lights = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("tile lights"),
             size: 4 * words,
-            usage: wgpu::BufferUsages::STORAGE,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
+        });
+        let readback = (stats && enabled).then(|| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("tile lights readback"),
+                size: 4 * words,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
         });
         let mut spheres = light_spheres(view, lights);
         if spheres.is_empty() {
@@ -154,7 +182,51 @@ impl LightCulling {
             ),
             tile_lights,
             uniform,
+            readback,
         }
+    }
+
+    /// Records the copy of the tile lists for [`Self::stats`] (if asked for).
+    pub fn record_stats_copy(encoder: &mut wgpu::CommandEncoder, frame: &CullingFrame) {
+        if let Some(r) = &frame.readback {
+            encoder.copy_buffer_to_buffer(&frame.tile_lights, 0, r, 0, r.size());
+        }
+    }
+
+    /// The tile-list statistics of a submitted frame, if asked for.
+    pub fn stats(
+        ctx: &crate::GpuContext,
+        frame: &CullingFrame,
+    ) -> Result<Option<CullingStats>, crate::GpuError> {
+        let Some(r) = &frame.readback else {
+            return Ok(None);
+        };
+        let bytes = crate::renderer::map_read(ctx, r)?;
+        let words: &[u32] = bytemuck::cast_slice(&bytes);
+        let u = &frame.uniform;
+        let stride = u.max_per_tile as usize + 1;
+        let tiles = (u.tiles_x * u.tiles_y) as usize;
+        let (mut sum, mut max, mut overflowed, mut with_lights) = (0u64, 0u32, 0usize, 0usize);
+        for t in 0..tiles {
+            let count = words[t * stride];
+            let n = if count == TILE_OVERFLOW {
+                overflowed += 1;
+                u.light_count
+            } else {
+                count
+            };
+            sum += n as u64;
+            max = max.max(n);
+            with_lights += usize::from(n > 0);
+        }
+        Ok(Some(CullingStats {
+            tiles,
+            lights: u.light_count,
+            mean_lights: sum as f64 / tiles.max(1) as f64,
+            max_lights: max,
+            tiles_with_lights: with_lights,
+            overflowed,
+        }))
     }
 
     /// Records the culling pass (nothing when culling is off).

@@ -13,7 +13,7 @@
 use crate::camera::view_and_projection;
 use crate::context::{GpuContext, GpuError};
 use crate::gpu::GpuPassParams;
-use crate::light_culling::{LightCulling, MAX_CULLED_LIGHTS};
+use crate::light_culling::{CullingStats, LightCulling, MAX_CULLED_LIGHTS};
 use crate::planar_shadow::PlanarShadows;
 use crate::receivers::planar_receivers;
 use crate::scene_gpu::{PassParams, SceneGpu, params_layout, storage_entry, uniform_entry, whole};
@@ -74,6 +74,9 @@ pub struct RasterOptions {
     /// Tiled light culling of the forward pass (off: every pixel loops over
     /// every light; the image is the same, see `light_culling.rs`).
     pub light_culling: bool,
+    /// Read the tile lists back after the frame and report
+    /// [`RasterOutput::culling`] (costs a copy and a readback).
+    pub culling_stats: bool,
 }
 
 impl Default for RasterOptions {
@@ -86,6 +89,7 @@ impl Default for RasterOptions {
             slope_bias: DEFAULT_SLOPE_BIAS,
             normal_offset: DEFAULT_NORMAL_OFFSET,
             light_culling: true,
+            culling_stats: false,
         }
     }
 }
@@ -112,6 +116,8 @@ pub struct RasterOutput {
     /// What the raster path approximated for this scene (see
     /// [`crate::SceneData`]).
     pub warnings: Vec<String>,
+    /// The light lists of the tiles, with [`RasterOptions::culling_stats`].
+    pub culling: Option<CullingStats>,
 }
 
 /// The raster pipelines for one set of options.
@@ -566,6 +572,7 @@ impl ForwardRenderer {
         let culling = LightCulling::frame(
             device,
             culled,
+            o.culling_stats,
             view,
             proj,
             &gpu.data.lights,
@@ -772,6 +779,7 @@ impl ForwardRenderer {
             }
         }
         timer.resolve(&mut encoder);
+        LightCulling::record_stats_copy(&mut encoder, &culling);
         encoder.copy_texture_to_buffer(
             wgpu::TexelCopyTextureInfo {
                 texture: &targets.resolved,
@@ -806,6 +814,7 @@ impl ForwardRenderer {
             pixels.extend(row.chunks_exact(4).map(|p| Vec3::new(p[0], p[1], p[2])));
         }
         let passes = timer.read(ctx)?;
+        let culling_stats = LightCulling::stats(ctx, &culling)?;
         let image =
             Image::from_pixels(width, height, pixels).map_err(|e| GpuError::Wgpu(e.to_string()))?;
         Ok(RasterOutput {
@@ -814,6 +823,7 @@ impl ForwardRenderer {
             frame_ms,
             passes,
             warnings,
+            culling: culling_stats,
         })
     }
 }

@@ -104,7 +104,11 @@ fn assert_close(name: &str, c: &Comparison) {
     assert!(c.shadowed > 0.02, "{name}: only {:.4} shadowed", c.shadowed);
     assert!(c.diff <= MAX_DIFF, "{name}: {:.3} % differ", 100.0 * c.diff);
     // No light leaks into the CPU's shadows (beyond partly covered pixels).
-    assert!(c.leak <= 0.6 * MAX_DIFF, "{name}: {:.3} % leak", 100.0 * c.leak);
+    assert!(
+        c.leak <= 0.6 * MAX_DIFF,
+        "{name}: {:.3} % leak",
+        100.0 * c.leak
+    );
     assert_eq!(c.off_edge, 0, "{name}: differences away from shadow edges");
 }
 
