@@ -96,11 +96,25 @@ fn bad_arguments_fail_without_output() {
                 "--engine",
                 "raster",
                 "--shadows",
-                "volume",
+                "soft",
                 "-o",
                 "a.png",
             ],
-            "volume",
+            "soft",
+        ),
+        (
+            &[
+                "render",
+                "--engine",
+                "raster",
+                "--shadows",
+                "volume",
+                "--pcf",
+                "3",
+                "-o",
+                "a.png",
+            ],
+            "--shadows map",
         ),
         (
             &["render", "--engine", "raster", "--pcf", "3", "-o", "a.png"],
@@ -367,6 +381,35 @@ fn raster_engine_round_trip() {
         with_maps < without,
         "shadow maps do not approach direct: FLIP {with_maps} vs {without} without"
     );
+    // Stencil shadow volumes: hard shadows everywhere, closer still.
+    let o = penumbra(
+        &[
+            &[
+                "render",
+                &scene,
+                "--engine",
+                "raster",
+                "--shadows",
+                "volume",
+                "--msaa",
+                "4",
+                "-o",
+                "v.exr",
+            ],
+            &res[..],
+        ]
+        .concat(),
+        d,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("shadow volume stencil"),
+        "{}",
+        stderr(&o)
+    );
+    let volumes = flip_of("v.exr");
+    eprintln!("raster vs direct: FLIP {volumes:.4} with shadow volumes");
+    assert!(volumes < without, "volumes: FLIP {volumes} vs {without}");
 }
 
 /// `bench --engine raster` (GPU; fails without an adapter unless

@@ -60,7 +60,8 @@ pub struct BenchArgs {
     #[arg(long, default_value = "1920x1080", value_parser = parse_resolution)]
     pub resolution: (u32, u32),
     /// Raster: comma-separated light counts, each a set of generated point
-    /// lights around the scene; 0 = the scene's own lights.
+    /// lights of finite range just above the scene's surfaces (range
+    /// 2.5 R/√count, R the bounds radius); 0 = the scene's own lights.
     #[arg(long, value_delimiter = ',', default_value = "1,8,1024")]
     pub lights: Vec<u32>,
     /// Raster: timed frames per light count (the median is reported).

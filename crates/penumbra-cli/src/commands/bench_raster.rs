@@ -51,29 +51,70 @@ pub fn raster_bench_scene(triangles: usize) -> Scene {
     scene
 }
 
-/// `count` point lights spread evenly (a Fibonacci spiral) over the upper
-/// part of a shell of radius 1.6 r around the bounds' centre (r = bounds
-/// radius / 2), with a total intensity that does not depend on `count`.
-pub fn generated_lights(bounds: (Vec3, Vec3), count: u32) -> Vec<SceneLight> {
-    let (lo, hi) = bounds;
-    let centre = 0.5 * (lo + hi);
-    let r = 0.25 * (hi - lo).length().max(1e-3);
-    let total = 8.0 * r * r;
-    let golden = std::f32::consts::PI * (3.0 - 5f32.sqrt());
+/// `count` point lights of finite range just above the scene's surfaces:
+/// each at a point drawn in proportion to area (a fixed low-discrepancy
+/// sequence, so runs are reproducible), lifted along the face normal by
+/// 2 % of the bounds radius R, with range `2.5 R / √count` (so the lights
+/// cover about the same total area, and a pixel sees a similar number of
+/// lights, at every count) and intensity ∝ range² / count. With many lights
+/// most of them reach a small part of the image: what tiled culling is for.
+pub fn generated_lights(scene: &Scene, count: u32) -> Vec<SceneLight> {
+    let Some((lo, hi)) = scene.bounds() else {
+        return Vec::new();
+    };
+    let radius = (0.5 * (hi - lo).length()).max(1e-3);
+    // Every world triangle with its area (prefix sums for the draw).
+    let mut triangles = Vec::new();
+    let mut cdf = Vec::new();
+    let mut total_area = 0.0f64;
+    for inst in &scene.instances {
+        let mesh = &scene.meshes[inst.mesh];
+        for t in &mesh.indices {
+            let [a, b, c] = t.map(|i| inst.transform.transform_point3(mesh.positions[i as usize]));
+            let n = (b - a).cross(c - a);
+            let area = 0.5 * n.length() as f64;
+            if area > 0.0 {
+                total_area += area;
+                triangles.push((a, b, c, n.normalize()));
+                cdf.push(total_area);
+            }
+        }
+    }
+    if triangles.is_empty() {
+        return Vec::new();
+    }
+    let range = 2.5 * radius / (count as f32).sqrt();
+    let lift = (0.02 * radius).min(0.3 * range);
+    let intensity = 8.0 * range * range / count as f32;
     (0..count)
         .map(|i| {
-            // Heights from 0.95 down to -0.2 of the shell radius.
-            let t = (i as f32 + 0.5) / count as f32;
-            let y = 0.95 - 1.15 * t;
-            let ring = (1.0 - y * y).max(0.0).sqrt();
-            let phi = golden * i as f32;
-            let dir = Vec3::new(ring * phi.cos(), y, ring * phi.sin());
+            // Additive recurrences with the plastic constant's powers.
+            let u = ((i as f64 + 0.5) * 0.754_877_666_246_692_8).fract();
+            let v = ((i as f64 + 0.5) * 0.569_840_290_998_053_3).fract() as f32;
+            let w = ((i as f64 + 0.5) * 0.618_033_988_749_894_9).fract() as f32;
+            let k = cdf
+                .partition_point(|&c| c < u * total_area)
+                .min(triangles.len() - 1);
+            let (a, b, c, n) = triangles[k];
+            let (su, sv) = if v + w > 1.0 {
+                (1.0 - v, 1.0 - w)
+            } else {
+                (v, w)
+            };
+            let p = a + (b - a) * su + (c - a) * sv;
+            // Above the side of the face the camera is more likely to see:
+            // towards the bounds' centre's opposite for closed objects.
+            let centre = 0.5 * (lo + hi);
+            let up = if n.dot(p - centre) >= 0.0 || n.y > 0.5 {
+                n
+            } else {
+                -n
+            };
             SceneLight {
                 name: format!("bench light {i}"),
                 light: Light::Point(PointLight {
-                    position: centre + 1.6 * r * dir,
-                    intensity: Rgb::splat(total / count as f32),
-                    range: f32::INFINITY,
+                    range,
+                    ..PointLight::new(p + up * lift, Rgb::splat(intensity))
                 }),
             }
         })
@@ -112,10 +153,16 @@ pub fn run(bench: &RasterBench, scene: &Scene) -> Result<()> {
     }
     let ctx = GpuContext::new()?;
     let renderer = ForwardRenderer::new(&ctx, bench.options)?;
+    // The warm-up frame also reads the tile lists back (outside the timed
+    // frames, whose wall time would include the copy).
+    let probe = ForwardRenderer::new(
+        &ctx,
+        RasterOptions {
+            culling_stats: true,
+            ..bench.options
+        },
+    )?;
     let camera = scene_camera(scene);
-    let bounds = scene
-        .bounds()
-        .unwrap_or((Vec3::splat(-1.0), Vec3::splat(1.0)));
     let timestamps = ctx
         .device
         .features()
@@ -140,16 +187,18 @@ pub fn run(bench: &RasterBench, scene: &Scene) -> Result<()> {
     for &count in &bench.light_counts {
         let mut lit = scene.clone();
         if count > 0 {
-            lit.lights = generated_lights(bounds, count);
+            lit.lights = generated_lights(scene, count);
         }
         let lights = lit.lights.len();
         let mut frame_ms = Vec::new();
         let mut passes = Vec::new();
-        for frame in 0..=bench.frames {
+        // Warm-up: pipeline caches, first-use allocations.
+        let culling = probe
+            .render(&ctx, &lit, &camera, bench.width, bench.height)?
+            .culling;
+        renderer.render(&ctx, &lit, &camera, bench.width, bench.height)?;
+        for _ in 0..bench.frames {
             let out = renderer.render(&ctx, &lit, &camera, bench.width, bench.height)?;
-            if frame == 0 {
-                continue; // warm-up: pipeline caches, first-use allocations
-            }
             frame_ms.push(out.frame_ms);
             passes.push(out.passes);
         }
@@ -160,9 +209,21 @@ pub fn run(bench: &RasterBench, scene: &Scene) -> Result<()> {
                 .iter()
                 .map(|(k, n, ms)| format!(",\"{k}\":{{\"passes\":{n},\"ms\":{ms:.4}}}"))
                 .collect();
-            println!("{{\"lights\":{lights},\"frame_ms\":{frame:.4}{fields}}}");
+            let tiles = culling.as_ref().map_or(String::new(), |c| {
+                format!(
+                    ",\"lights_per_tile\":{{\"mean\":{:.2},\"max\":{},\"overflowed\":{}}}",
+                    c.mean_lights, c.max_lights, c.overflowed
+                )
+            });
+            println!("{{\"lights\":{lights},\"frame_ms\":{frame:.4}{fields}{tiles}}}");
         } else {
-            println!("{lights} light(s): frame {frame:.2} ms (wall, submit to idle)");
+            let tiles = culling.as_ref().map_or(String::new(), |c| {
+                format!(
+                    "; tiled culling: {:.1} lights per tile on average (max {}, {} of {} tiles overflowed)",
+                    c.mean_lights, c.max_lights, c.overflowed, c.tiles
+                )
+            });
+            println!("{lights} light(s): frame {frame:.2} ms (wall, submit to idle){tiles}");
             for (kind, n, ms) in kinds {
                 let label = if n > 1 { format!("{kind} ×{n}") } else { kind };
                 println!("  {label:<28} {ms:>10.3} ms");
@@ -177,28 +238,41 @@ mod tests {
     use super::*;
 
     #[test]
-    fn generated_lights_are_distinct_share_the_intensity_and_stay_outside_the_ball() {
-        let bounds = (Vec3::splat(-1.0), Vec3::splat(1.0));
+    fn generated_lights_sit_above_the_surfaces_within_their_range() {
+        let scene = raster_bench_scene(2000);
+        let (lo, hi) = scene.bounds().unwrap();
+        let radius = 0.5 * (hi - lo).length();
         for count in [1, 8, 1024] {
-            let lights = generated_lights(bounds, count);
+            let lights = generated_lights(&scene, count);
             assert_eq!(lights.len(), count as usize);
-            let mut total = 0.0;
+            let mut sum_range2_i = 0.0;
             for (i, l) in lights.iter().enumerate() {
                 let Light::Point(p) = l.light else {
                     panic!("not a point light")
                 };
-                total += p.intensity.x;
-                // r = √12 / 4 ≈ 0.866: the shell is at 1.39 from the centre.
-                assert!((p.position.length() - 1.6 * 0.75f32.sqrt()).abs() < 1e-4);
+                let expect = 2.5 * radius / (count as f32).sqrt();
+                assert!((p.range - expect).abs() < 1e-4 * expect);
+                // Inside the bounds (lifted a little at most) and distinct.
+                let margin = Vec3::splat(0.03 * radius);
+                assert!(p.position.cmpge(lo - margin).all() && p.position.cmple(hi + margin).all());
                 for other in &lights[..i] {
                     let Light::Point(q) = other.light else {
                         unreachable!()
                     };
-                    assert!((q.position - p.position).length() > 1e-3);
+                    assert!((q.position - p.position).length() > 1e-4);
                 }
+                sum_range2_i += p.intensity.x / (p.range * p.range);
             }
-            assert!((total - 6.0).abs() < 1e-3 * 6.0, "{total}");
+            // Intensity ∝ range² / count: the same sum for every count.
+            assert!((sum_range2_i - 8.0).abs() < 1e-3 * 8.0, "{sum_range2_i}");
         }
+        // The 1024 lights are spread: both the ball and the floor get some.
+        let lights = generated_lights(&scene, 1024);
+        let on_floor = lights
+            .iter()
+            .filter(|l| matches!(l.light, Light::Point(p) if p.position.y < -1.0))
+            .count();
+        assert!(on_floor > 100 && on_floor < 1000, "{on_floor}");
     }
 
     #[test]

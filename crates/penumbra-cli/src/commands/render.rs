@@ -54,9 +54,9 @@ pub struct RenderArgs {
     /// Tone-mapping operator for PNG output.
     #[arg(long, value_enum, default_value_t = ToneArg::Filmic)]
     pub tonemap: ToneArg,
-    /// trace: the CPU ray tracer; raster: the GPU forward renderer (wgpu),
+    /// trace: the CPU ray tracer; raster: the GPU renderer (wgpu),
     /// per-pixel shading of the abstract lights (the model of `--integrator
-    /// local`), shadowed with `--shadows map`.
+    /// local`), shadowed with `--shadows map|planar|volume`.
     #[arg(long, value_enum, default_value_t = Engine::Trace)]
     pub engine: Engine,
     /// Raster engine: samples per pixel of the colour and depth targets (1 or 4).
@@ -64,7 +64,9 @@ pub struct RenderArgs {
     pub msaa: u32,
     /// Raster engine: shadows of the abstract lights. none (default): no
     /// shadows; map: shadow maps (directional: orthographic, spot:
-    /// perspective, point: six cube faces). planar and volume are planned.
+    /// perspective, point: six cube faces); planar: projected onto the
+    /// planar receiver(s) through the stencil buffer; volume: stencil shadow
+    /// volumes (z-fail).
     #[arg(long, value_enum)]
     pub shadows: Option<ShadowArg>,
     /// Raster engine, --shadows map: edge of each shadow map in texels
@@ -81,6 +83,8 @@ pub struct RenderArgs {
 pub enum ShadowArg {
     None,
     Map,
+    Planar,
+    Volume,
 }
 
 /// The raster path's shadow mode for a `--shadows` value.
@@ -88,6 +92,8 @@ pub fn shadow_mode(arg: ShadowArg) -> ShadowMode {
     match arg {
         ShadowArg::None => ShadowMode::None,
         ShadowArg::Map => ShadowMode::Map,
+        ShadowArg::Planar => ShadowMode::Planar,
+        ShadowArg::Volume => ShadowMode::Volume,
     }
 }
 
@@ -242,11 +248,11 @@ fn render_raster(
     }
     if args.integrator.is_some_and(|i| i != IntegratorKind::Local) {
         eprintln!(
-            "penumbra: warning: --engine raster shades like --integrator local (direct light from the abstract lights; shadows only with --shadows map); --integrator is ignored"
+            "penumbra: warning: --engine raster shades like --integrator local (direct light from the abstract lights; shadows only with --shadows map|planar|volume); --integrator is ignored"
         );
     }
     let shadows = shadow_mode(args.shadows.unwrap_or(ShadowArg::None));
-    if shadows == ShadowMode::None && (args.shadow_map_size.is_some() || args.pcf.is_some()) {
+    if shadows != ShadowMode::Map && (args.shadow_map_size.is_some() || args.pcf.is_some()) {
         bail!("--shadow-map-size and --pcf need --shadows map");
     }
     let camera = scene_camera(scene);
