@@ -5,13 +5,19 @@
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat3, Mat4, Vec3};
 use penumbra_shading::bsdf::{Bsdf, PhongVariant};
-use penumbra_shading::light::Light;
+use penumbra_shading::light::{FarField, Light};
 use std::mem::{offset_of, size_of};
 
 /// Light kinds (`GpuLight::kind`), as the WGSL constants `LIGHT_*`.
 pub const LIGHT_POINT: u32 = 0;
 pub const LIGHT_DIRECTIONAL: u32 = 1;
 pub const LIGHT_SPOT: u32 = 2;
+/// The far-field point light of an analytic area light
+/// ([`penumbra_shading::light::FarField`]).
+pub const LIGHT_AREA: u32 = 3;
+
+/// `GpuLight::flags`: an area light's far field emits on both sides.
+pub const LIGHT_TWO_SIDED: u32 = 1;
 
 /// Material models (`GpuMaterial::model`), as the WGSL constants `MODEL_*`.
 pub const MODEL_LAMBERT: u32 = 0;
@@ -27,7 +33,8 @@ pub struct GpuLight {
     /// M: intensity [W/sr] (w = 1) or irradiance [W/m²] (w = 0).
     pub m: [f32; 3],
     pub kind: u32,
-    /// Spot lights: unit direction of travel on the axis.
+    /// Spot lights: unit direction of travel on the axis. Area lights: the
+    /// emitter's front normal (zero: isotropic, a sphere).
     pub spot_direction: [f32; 3],
     pub cos_inner: f32,
     pub cos_outer: f32,
@@ -35,7 +42,8 @@ pub struct GpuLight {
     /// `clamp(1 − (d/range)⁴, 0, 1)²`); 0 = no cut-off (shaders need not
     /// handle infinities).
     pub range: f32,
-    pub _pad1: f32,
+    /// [`LIGHT_TWO_SIDED`] for two-sided area lights.
+    pub flags: u32,
     pub _pad2: f32,
 }
 
@@ -62,6 +70,19 @@ impl GpuLight {
             }
         }
         out
+    }
+
+    /// The GPU form of an area light's far field: a point light (w = 1)
+    /// whose intensity follows the emitter's lobe.
+    pub fn from_far_field(f: &FarField) -> Self {
+        Self {
+            position: f.position.extend(1.0).to_array(),
+            m: f.intensity.to_array(),
+            kind: LIGHT_AREA,
+            spot_direction: f.axis.to_array(),
+            flags: if f.two_sided { LIGHT_TWO_SIDED } else { 0 },
+            ..Self::default()
+        }
     }
 }
 
@@ -323,7 +344,7 @@ pub fn gpu_structs() -> Vec<HostLayout> {
                 cos_inner,
                 cos_outer,
                 range,
-                _pad1,
+                flags,
                 _pad2
             ]
         ),

@@ -555,8 +555,7 @@ impl ForwardRenderer {
         let shadow_maps = ShadowMapFrame::new(
             device,
             o.shadows == ShadowMode::Map,
-            &scene.lights,
-            gpu.data.lights.len(),
+            &gpu.data.lights,
             gpu.bounds,
             o.shadow_map_size,
             o.pcf,

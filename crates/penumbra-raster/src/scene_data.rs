@@ -1,15 +1,27 @@
 //! The scene as the forward pass sees it: GPU lights, materials and
 //! instances, and warnings for what the raster path approximates.
+//!
+//! Analytic area lights become two things: a point light with the shape's
+//! far-field intensity ([`penumbra_shading::light::FarField`], appended after the abstract lights),
+//! and a tessellated emitter (appended after the scene's instances, drawn
+//! with its radiance, casting no shadow: it would hide its own point light).
 
 use crate::gpu::{GpuInstance, GpuLight, GpuMaterial};
-use penumbra_scene::Scene;
+use glam::{Mat3, Mat4, Vec3};
+use penumbra_scene::{Mesh, Scene, primitives};
+use penumbra_shading::light::{AreaLight, Shape};
 
 /// The scene as the forward pass sees it, and what it approximates.
 #[derive(Clone, Debug, Default)]
 pub struct SceneData {
+    /// The abstract lights, then the area lights' far fields.
     pub lights: Vec<GpuLight>,
     pub materials: Vec<GpuMaterial>,
+    /// The scene's instances, then one per emitter.
     pub instances: Vec<GpuInstance>,
+    /// World-space meshes of the area lights (instances
+    /// `scene.instances.len()..`), which cast no shadows.
+    pub emitters: Vec<Mesh>,
     /// What the raster path renders differently from the CPU `local`
     /// integrator for this scene.
     pub warnings: Vec<String>,
@@ -40,7 +52,7 @@ impl SceneData {
             // Storage bindings cannot be empty.
             materials.push(GpuMaterial::default());
         }
-        let instances = scene
+        let instances: Vec<GpuInstance> = scene
             .instances
             .iter()
             .map(|inst| {
@@ -53,14 +65,36 @@ impl SceneData {
                 )
             })
             .collect();
-        let lights: Vec<GpuLight> = scene
+        let mut instances: Vec<GpuInstance> = instances;
+        let mut lights: Vec<GpuLight> = scene
             .lights
             .iter()
             .map(|l| GpuLight::from_light(&l.light))
             .collect();
+        let mut emitters = Vec::new();
+        for l in &scene.area_lights {
+            lights.push(GpuLight::from_far_field(&l.light.far_field()));
+            let mut mesh = emitter_mesh(&l.light);
+            let (m, _) = GpuMaterial::from_bsdf(
+                &penumbra_shading::bsdf::Bsdf::Lambert(penumbra_shading::bsdf::Lambert::new(
+                    Vec3::ZERO,
+                )),
+                l.light.radiance,
+                l.light.two_sided && !matches!(l.light.shape, Shape::Sphere { .. }),
+            );
+            mesh.material = materials.len();
+            materials.push(m);
+            instances.push(GpuInstance::new(
+                Mat4::IDENTITY,
+                Mat3::IDENTITY,
+                mesh.material as u32,
+                mesh.normals.is_some(),
+            ));
+            emitters.push(mesh);
+        }
         if !scene.area_lights.is_empty() {
             warnings.push(format!(
-                "raster: {} analytic area light(s) are neither drawn nor lit from (abstract lights only)",
+                "raster: {} analytic area light(s) shade as point lights with their far-field intensity (exact for a sphere seen whole by a Lambertian surface; disks and quads as Lambertian emitters, accurate far from them; shadows hard, from the centre)",
                 scene.area_lights.len()
             ));
         }
@@ -80,8 +114,28 @@ impl SceneData {
             lights,
             materials,
             instances,
+            emitters,
             warnings,
         }
+    }
+}
+
+/// The emitting surface of an area light as a mesh (front side emitting).
+fn emitter_mesh(light: &AreaLight) -> Mesh {
+    match light.shape {
+        Shape::Sphere { center, radius } => {
+            primitives::sphere(center, radius, primitives::DEFAULT_SPHERE_RINGS)
+        }
+        Shape::Disk {
+            center,
+            normal,
+            radius,
+        } => primitives::disk(center, normal, radius, primitives::DEFAULT_DISK_SEGMENTS),
+        Shape::Quad {
+            corner,
+            edge1,
+            edge2,
+        } => primitives::quad(corner, edge1, edge2),
     }
 }
 

@@ -148,10 +148,15 @@ pub(crate) struct SceneGpu {
     pub lights: wgpu::Buffer,
     /// The scene's lights (at least one entry, zeroed, for empty scenes).
     pub light_count: u32,
-    /// Per mesh; `None` for meshes without triangles.
+    /// Per mesh (the scene's, then the area lights' emitters); `None` for
+    /// meshes without triangles.
     pub meshes: Vec<Option<GpuMesh>>,
-    /// Instances with triangles: (instance index, mesh index).
+    /// Instances with triangles: (instance index, mesh index); the scene's
+    /// first, then the emitters.
     pub draws: Vec<(u32, usize)>,
+    /// The first `casters` draws are the scene's instances, which cast
+    /// shadows; the emitters after them do not.
+    pub casters: usize,
     /// Instances uploaded (at least 1).
     pub instance_count: u32,
 }
@@ -182,6 +187,7 @@ impl SceneGpu {
         let meshes = scene
             .meshes
             .iter()
+            .chain(&data.emitters)
             .map(|m| {
                 if m.indices.is_empty() || m.positions.is_empty() {
                     return None;
@@ -208,13 +214,20 @@ impl SceneGpu {
                 })
             })
             .collect::<Vec<_>>();
-        let draws = scene
+        let mut draws: Vec<(u32, usize)> = scene
             .instances
             .iter()
             .enumerate()
             .filter(|(_, inst)| meshes[inst.mesh].is_some())
             .map(|(i, inst)| (i as u32, inst.mesh))
             .collect();
+        let casters = draws.len();
+        let (first_instance, first_mesh) = (scene.instances.len(), scene.meshes.len());
+        draws.extend(
+            (0..data.emitters.len())
+                .filter(|k| meshes[first_mesh + k].is_some())
+                .map(|k| ((first_instance + k) as u32, first_mesh + k)),
+        );
         Self {
             bounds,
             camera: buffer_init(
@@ -239,6 +252,7 @@ impl SceneGpu {
             light_count,
             meshes,
             draws,
+            casters,
             instance_count: instances.len() as u32,
             data,
         }
@@ -253,6 +267,18 @@ impl SceneGpu {
         instance_base: u32,
     ) {
         for &(i, mesh) in &self.draws {
+            self.draw_instance(pass, i, mesh, with_normals, instance_base);
+        }
+    }
+
+    /// Draws the instances that cast shadows (see [`Self::draw_all`]).
+    pub fn draw_casters(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        with_normals: bool,
+        instance_base: u32,
+    ) {
+        for &(i, mesh) in &self.draws[..self.casters] {
             self.draw_instance(pass, i, mesh, with_normals, instance_base);
         }
     }

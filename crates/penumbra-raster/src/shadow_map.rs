@@ -2,7 +2,7 @@
 //! the scene bounds for directional lights, a perspective view around the
 //! outer cone for spot lights, and six 90° cube faces for point lights.
 
-use crate::gpu::{GpuShadow, GpuShadowView};
+use crate::gpu::{GpuLight, GpuShadow, GpuShadowView, LIGHT_DIRECTIONAL, LIGHT_SPOT};
 use glam::{Mat4, Vec3, Vec4};
 
 /// Constant part of the shadow passes' depth bias, in units of the depth
@@ -31,7 +31,7 @@ fn look_to(eye: Vec3, dir: Vec3, up: Vec3) -> Mat4 {
     )
 }
 
-/// The shadow-map views of the scene's lights: one [`GpuShadow`] per light
+/// The shadow-map views of the frame's lights: one [`GpuShadow`] per light
 /// and one [`GpuShadowView`] per layer of the shadow-map array.
 ///
 /// Every view stores reversed depth (1 near the light). Directional lights:
@@ -40,17 +40,17 @@ fn look_to(eye: Vec3, dir: Vec3, up: Vec3) -> Mat4 {
 /// spot axis whose square frustum contains the outer cone (a cone wider than
 /// 170° is clamped to 170°). Point lights: six 90° faces looking along ±x,
 /// ±y, ±z (a depth "cube" stored as six array layers with their own
-/// view-projections; the shader picks the face of the major axis). The
+/// view-projections; the shader picks the face of the major axis); the far
+/// fields of area lights like point lights. The
 /// perspective frusta are widened by the PCF kernel's half-width plus a
 /// texel so that taps near a face edge stay inside the face.
 pub fn shadow_views(
-    lights: &[penumbra_scene::SceneLight],
+    lights: &[GpuLight],
     bounds: (Vec3, Vec3),
     size: u32,
     pcf: u32,
     normal_offset: f32,
 ) -> (Vec<GpuShadow>, Vec<GpuShadowView>) {
-    use penumbra_shading::light::Light;
     let (lo, hi) = bounds;
     let centre = 0.5 * (lo + hi);
     let radius = (0.5 * (hi - lo).length()).max(1e-4);
@@ -90,9 +90,11 @@ pub fn shadow_views(
             map_size: size_f,
             ..GpuShadow::default()
         };
-        match &l.light {
-            Light::Directional(d) => {
-                let axis = d.direction.normalize();
+        let position = Vec3::new(l.position[0], l.position[1], l.position[2]);
+        match l.kind {
+            LIGHT_DIRECTIONAL => {
+                // The homogeneous position points towards the light.
+                let axis = -position.normalize();
                 let eye = centre - axis * (2.0 * radius);
                 let view = look_to(eye, axis, up_for(axis));
                 let mut vlo = Vec3::splat(f32::INFINITY);
@@ -127,15 +129,17 @@ pub fn shadow_views(
                 sh.layer_count = 1;
                 sh.texel = extent / size_f;
             }
-            Light::Spot(sp) => {
-                let c = sp.cos_outer.clamp(85f32.to_radians().cos(), 1.0 - 1e-6);
+            LIGHT_SPOT => {
+                let c = l.cos_outer.clamp(85f32.to_radians().cos(), 1.0 - 1e-6);
                 let tan_half = (1.0 - c * c).sqrt() / c * widen;
-                views.push(perspective(sp.position, sp.direction.normalize(), tan_half));
+                let axis = Vec3::from(l.spot_direction).normalize();
+                views.push(perspective(position, axis, tan_half));
                 sh.layer_count = 1;
                 sh.perspective = 1;
                 sh.texel = 2.0 * tan_half / size_f;
             }
-            Light::Point(pt) => {
+            // Point lights and the far fields of area lights.
+            _ => {
                 for axis in [
                     Vec3::X,
                     Vec3::NEG_X,
@@ -144,7 +148,7 @@ pub fn shadow_views(
                     Vec3::Z,
                     Vec3::NEG_Z,
                 ] {
-                    views.push(perspective(pt.position, axis, widen));
+                    views.push(perspective(position, axis, widen));
                 }
                 sh.layer_count = 6;
                 sh.perspective = 1;
@@ -167,13 +171,11 @@ pub(crate) struct ShadowMapFrame {
 
 impl ShadowMapFrame {
     /// The views of `lights` (none when `enabled` is false: a 1×1 dummy
-    /// array and unshadowed lights), `light_slots` GpuShadow entries.
-    #[allow(clippy::too_many_arguments)]
+    /// array and unshadowed lights).
     pub fn new(
         device: &wgpu::Device,
         enabled: bool,
-        lights: &[penumbra_scene::SceneLight],
-        light_slots: usize,
+        lights: &[GpuLight],
         bounds: (Vec3, Vec3),
         size: u32,
         pcf: u32,
@@ -191,7 +193,7 @@ impl ShadowMapFrame {
                 "{layers} shadow-map layers (the adapter allows {max_layers}; a point light takes 6)"
             )));
         }
-        shadows.resize(light_slots.max(1), GpuShadow::default());
+        shadows.resize(lights.len().max(1), GpuShadow::default());
         if views.is_empty() {
             views.push(GpuShadowView::default());
         }
@@ -268,7 +270,7 @@ impl ShadowMapFrame {
             });
             pass.set_pipeline(pipeline);
             pass.set_bind_group(0, bind_group, &[]);
-            gpu.draw_all(&mut pass, false, layer * gpu.instance_count);
+            gpu.draw_casters(&mut pass, false, layer * gpu.instance_count);
         }
     }
 }
@@ -287,7 +289,6 @@ mod tests {
 
     #[test]
     fn shadow_views_cover_the_scene_and_the_cones() {
-        use penumbra_scene::SceneLight;
         use penumbra_shading::light::{DirectionalLight, Light, PointLight, SpotLight};
         let bounds = (Vec3::new(-3.0, 0.0, -2.0), Vec3::new(4.0, 2.0, 5.0));
         let spot = SpotLight {
@@ -310,10 +311,7 @@ mod tests {
                 range: f32::INFINITY,
             }),
         ]
-        .map(|light| SceneLight {
-            name: String::new(),
-            light,
-        });
+        .map(|light| GpuLight::from_light(&light));
         let (sh, views) = shadow_views(&lights, bounds, 1024, 3, 1.0);
         assert_eq!(views.len(), 8);
         let layers: Vec<_> = sh.iter().map(|s| (s.first_layer, s.layer_count)).collect();

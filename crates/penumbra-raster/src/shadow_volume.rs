@@ -159,7 +159,7 @@ impl ShadowVolumes {
         let mut mesh_slot: Vec<Option<[u32; 6]>> = vec![None; scene.meshes.len()];
         let mut volumes = Vec::new();
         let mut facing_len = 0u32;
-        for &(instance, mesh) in &gpu.draws {
+        for &(instance, mesh) in &gpu.draws[..gpu.casters] {
             let slot = *mesh_slot[mesh].get_or_insert_with(|| {
                 let m = &scene.meshes[mesh];
                 let topo = mesh_topology(&m.positions, &m.indices);

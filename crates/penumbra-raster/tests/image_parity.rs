@@ -230,3 +230,96 @@ fn point_directional_spot_and_phong_match_cpu_local() {
     );
     parity(&ctx, "lights orthographic", &scene, ortho, 256);
 }
+
+/// Area lights shade as their far fields: a sphere light that every point
+/// of a Lambertian floor sees whole gives the exact irradiance (per pixel
+/// within the CPU's noise), a small disk far from the floor within a few
+/// per cent; both emitters are drawn, and the images agree by FLIP.
+#[test]
+fn area_lights_shade_as_far_field_point_lights() {
+    let Some(ctx) = common::gpu("area_lights_shade_as_far_field_point_lights") else {
+        return;
+    };
+    use penumbra_scene::SceneAreaLight;
+    use penumbra_shading::light::{AreaLight, Shape};
+    for (name, shape, two_sided, tolerance) in [
+        (
+            "sphere",
+            Shape::Sphere {
+                center: Vec3::new(0.5, 2.5, -0.5),
+                radius: 0.4,
+            },
+            false,
+            0.03,
+        ),
+        (
+            "disk",
+            Shape::Disk {
+                center: Vec3::new(-0.5, 3.0, 0.0),
+                normal: Vec3::new(0.2, -1.0, 0.6).normalize(),
+                radius: 0.25,
+            },
+            true,
+            0.05,
+        ),
+    ] {
+        let mut scene = Scene::default();
+        let floor = scene.add_material(Material::lambert("floor", Vec3::splat(0.7)));
+        let mut g = primitives::quad(
+            Vec3::new(-4.0, 0.0, 4.0),
+            Vec3::new(8.0, 0.0, 0.0),
+            Vec3::new(0.0, 0.0, -8.0),
+        );
+        g.material = floor;
+        scene.add_mesh(g, Mat4::IDENTITY);
+        scene.area_lights.push(SceneAreaLight {
+            name: name.into(),
+            light: AreaLight {
+                shape,
+                radiance: Vec3::new(6.0, 5.0, 4.0),
+                two_sided,
+            },
+        });
+        let camera = Camera::look_at(
+            Vec3::new(0.0, 4.0, 6.0),
+            Vec3::new(0.0, 0.8, 0.0),
+            Vec3::Y,
+            Projection::Perspective {
+                fov_y: 50f32.to_radians(),
+            },
+        );
+        let size = 128;
+        let cpu = cpu_local(&scene, camera, size, size, 64);
+        let r = ForwardRenderer::new(&ctx, RasterOptions::default()).expect("renderer");
+        let out = r.render(&ctx, &scene, &camera, size, size).expect("render");
+        assert!(out.warnings.iter().any(|w| w.contains("far-field")));
+        // Floor pixels whose 3 × 3 neighbourhood is all floor in the CPU
+        // image (neither background, 0, nor the emitter, > 3).
+        let floor_like = |p: Vec3| p.max_element() > 1e-4 && p.max_element() < 3.0;
+        let n = size as i32;
+        let at = |x: i32, y: i32| cpu.pixels[(y * n + x) as usize];
+        let mut worst = 0.0f32;
+        let mut floor_pixels = 0;
+        let mut emitter_pixels = 0;
+        for y in 1..n - 1 {
+            for x in 1..n - 1 {
+                let (c, g) = (at(x, y), out.image.pixels[(y * n + x) as usize]);
+                if c.max_element() > 3.0 && g.max_element() > 3.0 {
+                    emitter_pixels += 1; // the emitter itself, in both images
+                }
+                let interior = (-1..=1).all(|dy| (-1..=1).all(|dx| floor_like(at(x + dx, y + dy))));
+                if interior {
+                    floor_pixels += 1;
+                    worst = worst.max(((g - c).abs() / c).max_element());
+                }
+            }
+        }
+        let (flip, _) = hdr_flip(&cpu, &out.image).expect("flip");
+        eprintln!(
+            "{name} light: {floor_pixels} floor pixels, worst relative difference {worst:.4}; {emitter_pixels} emitter pixels; mean HDR-FLIP {flip:.4}"
+        );
+        assert!(floor_pixels > (size * size / 3) as usize && emitter_pixels > 20);
+        assert!(worst <= tolerance, "{name}: {worst}");
+        assert!(flip <= MAX_MEAN_FLIP, "{name}: FLIP {flip}");
+    }
+}

@@ -1,7 +1,9 @@
 //! The WGSL twins against the Rust models: a compute shader evaluates the
-//! WGSL Lambert, every Phong–Blinn variant and the point, directional and
-//! spot lights on random inputs (≥ 10⁴ each); every component must be within
-//! relative 1e-4 or absolute 1e-6 of `Bsdf::eval` / `Light::sample_li`.
+//! WGSL Lambert, every Phong–Blinn variant, the point, directional and spot
+//! lights (with and without a range) and the far fields of area lights on
+//! random inputs (≥ 10⁴ each, 5000 per light kind); every component must be
+//! within relative 1e-4 or absolute 1e-6 of `Bsdf::eval` /
+//! `Light::sample_li` / `FarField::sample_li`.
 
 mod common;
 
@@ -11,7 +13,9 @@ use penumbra_raster::gpu::{GpuLight, MODEL_LAMBERT, MODEL_PHONG_BLINN, phong_var
 use penumbra_raster::shaders::with_library;
 use penumbra_raster::{GpuContext, map_read};
 use penumbra_shading::bsdf::{Bsdf, Lambert, PhongBlinn, PhongVariant};
-use penumbra_shading::light::{DirectionalLight, Light, PointLight, SpotLight};
+use penumbra_shading::light::{
+    AreaLight, DirectionalLight, FarField, Light, PointLight, Shape, SpotLight,
+};
 use penumbra_shading::stats::TestRng;
 use wgpu::util::DeviceExt;
 
@@ -182,6 +186,37 @@ fn wgsl_brdfs_match_rust() {
     assert!(counts.iter().all(|&n| n > 1000), "{counts:?}");
 }
 
+/// A light the raster path evaluates: an abstract light or the far field of
+/// an area light.
+#[derive(Debug)]
+enum TestLight {
+    Abstract(Light),
+    Area(FarField),
+}
+
+impl TestLight {
+    fn gpu(&self) -> GpuLight {
+        match self {
+            TestLight::Abstract(l) => GpuLight::from_light(l),
+            TestLight::Area(f) => GpuLight::from_far_field(f),
+        }
+    }
+
+    fn sample_li(&self, p: Vec3) -> Option<penumbra_shading::light::LightSample> {
+        match self {
+            TestLight::Abstract(l) => l.sample_li(p),
+            TestLight::Area(f) => f.sample_li(p),
+        }
+    }
+
+    fn range(&self) -> f32 {
+        match self {
+            TestLight::Abstract(l) => l.range(),
+            TestLight::Area(_) => f32::INFINITY,
+        }
+    }
+}
+
 #[test]
 fn wgsl_lights_match_rust() {
     let Some(ctx) = common::gpu("wgsl_lights_match_rust") else {
@@ -201,17 +236,50 @@ fn wgsl_lights_match_rust() {
     };
     for i in 0..CASES {
         let p = pos(&mut rng);
-        let light = match i % 3 {
-            0 => Light::Point(PointLight {
+        let light = match i % 4 {
+            0 => TestLight::Abstract(Light::Point(PointLight {
                 position: pos(&mut rng),
                 intensity: colour(&mut rng, 100.0),
                 range: range(&mut rng),
-            }),
-            1 => Light::Directional(DirectionalLight {
+            })),
+            1 => TestLight::Abstract(Light::Directional(DirectionalLight {
                 // Not necessarily unit: the light normalises it.
                 direction: unit(&mut rng) * (0.5 + rng.next_f32()),
                 irradiance: colour(&mut rng, 10.0),
-            }),
+            })),
+            3 => {
+                // An area light's far field: sphere, disk or quad, one- or
+                // two-sided.
+                let centre = pos(&mut rng);
+                let n = unit(&mut rng);
+                let shape = match rng.next_u64() % 3 {
+                    0 => Shape::Sphere {
+                        center: centre,
+                        radius: 0.1 + rng.next_f32(),
+                    },
+                    1 => Shape::Disk {
+                        center: centre,
+                        normal: n,
+                        radius: 0.1 + rng.next_f32(),
+                    },
+                    _ => {
+                        let e1 = unit(&mut rng).cross(n) * (0.2 + rng.next_f32());
+                        Shape::Quad {
+                            corner: centre,
+                            edge1: e1,
+                            edge2: n.cross(e1).normalize() * (0.2 + rng.next_f32()),
+                        }
+                    }
+                };
+                TestLight::Area(
+                    AreaLight {
+                        shape,
+                        radiance: colour(&mut rng, 20.0),
+                        two_sided: rng.next_f32() < 0.5,
+                    }
+                    .far_field(),
+                )
+            }
             _ => {
                 let position = pos(&mut rng);
                 // Half the spots point roughly at p, so that the cone and
@@ -223,18 +291,18 @@ fn wgsl_lights_match_rust() {
                 };
                 let cos_outer = rng.next_f32() * 0.99;
                 let cos_inner = cos_outer + (1.0 - cos_outer) * rng.next_f32();
-                Light::Spot(SpotLight {
+                TestLight::Abstract(Light::Spot(SpotLight {
                     position,
                     direction,
                     intensity: colour(&mut rng, 100.0),
                     cos_inner,
                     cos_outer,
                     range: range(&mut rng),
-                })
+                }))
             }
         };
         cases.push(LightCase {
-            light: GpuLight::from_light(&light),
+            light: light.gpu(),
             p: p.to_array(),
             _pad0: 0.0,
         });
@@ -242,7 +310,7 @@ fn wgsl_lights_match_rust() {
     }
     let out: Vec<LightIncidence> =
         dispatch(&ctx, "eval_light", bytemuck::cast_slice(&cases), CASES, 2);
-    let mut lit = [0usize; 3];
+    let mut lit = [0usize; 4];
     let mut falloff_band = 0;
     let mut window_band = 0;
     for (i, (c, light)) in cases.iter().zip(&lights).enumerate() {
@@ -279,12 +347,12 @@ fn wgsl_lights_match_rust() {
                 g.distance,
                 s.distance
             );
-            lit[i % 3] += 1;
+            lit[i % 4] += 1;
             let w = penumbra_shading::light::range_window(s.distance, light.range());
             if w > 0.0 && w < 1.0 {
                 window_band += 1;
             }
-            if let Light::Spot(sp) = light {
+            if let TestLight::Abstract(Light::Spot(sp)) = light {
                 let f = sp.falloff(-s.wi);
                 if f > 0.0 && f < 1.0 {
                     falloff_band += 1;
@@ -295,7 +363,10 @@ fn wgsl_lights_match_rust() {
     eprintln!(
         "light cases: {CASES}, reaching p per kind {lit:?}, spot falloff band {falloff_band}, range window band {window_band}"
     );
-    assert!(lit[0] > 4000 && lit[1] > 6000 && lit[2] > 700, "{lit:?}");
-    assert!(window_band > 2000, "{window_band}");
+    assert!(
+        lit[0] > 3000 && lit[1] > 4500 && lit[2] > 500 && lit[3] > 2500,
+        "{lit:?}"
+    );
+    assert!(window_band > 1500, "{window_band}");
     assert!(falloff_band > 300, "{falloff_band}");
 }

@@ -7,6 +7,7 @@
 mod area;
 mod directional;
 mod environment;
+mod far_field;
 mod homogeneous;
 mod point;
 mod spot;
@@ -14,6 +15,7 @@ mod spot;
 pub use area::{AreaLight, Shape, ShapeHit};
 pub use directional::DirectionalLight;
 pub use environment::{Environment, EnvironmentMap};
+pub use far_field::FarField;
 pub use homogeneous::HomogeneousLight;
 pub use point::{PointLight, range_window};
 pub use spot::SpotLight;

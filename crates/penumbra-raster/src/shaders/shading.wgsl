@@ -8,6 +8,8 @@ const PI: f32 = 3.14159265358979323846;
 const LIGHT_POINT: u32 = 0u;
 const LIGHT_DIRECTIONAL: u32 = 1u;
 const LIGHT_SPOT: u32 = 2u;
+const LIGHT_AREA: u32 = 3u;
+const LIGHT_TWO_SIDED: u32 = 1u;
 
 const MODEL_LAMBERT: u32 = 0u;
 const MODEL_PHONG_BLINN: u32 = 1u;
@@ -22,6 +24,9 @@ const PHONG_NORMALIZED: u32 = 3u;
 // unit direction towards the light); m = intensity [W/sr] or irradiance
 // [W/m²]. Spot lights add the glTF cone falloff around spot_direction.
 // range > 0: point and spot lights are cut off by glTF's window (0 = none).
+// LIGHT_AREA: an area light's far field (FarField), a point light whose
+// intensity is m · lobe, lobe = 1 (spot_direction = 0, a sphere), (w·n)⁺ or
+// |w·n| (flags & LIGHT_TWO_SIDED) around n = spot_direction.
 struct GpuLight {
     position: vec4<f32>,
     m: vec3<f32>,
@@ -30,7 +35,7 @@ struct GpuLight {
     cos_inner: f32,
     cos_outer: f32,
     range: f32,
-    _pad1: f32,
+    flags: u32,
     _pad2: f32,
 }
 
@@ -103,8 +108,22 @@ fn range_window(distance: f32, range: f32) -> f32 {
     return t * t;
 }
 
-// Light::sample_li for the abstract lights: the homogeneous form, times the
-// spot cone falloff and the range window of point and spot lights.
+// FarField::lobe for a direction w leaving the light.
+fn area_lobe(light: GpuLight, w: vec3<f32>) -> f32 {
+    let n = light.spot_direction;
+    if all(n == vec3<f32>(0.0)) {
+        return 1.0;
+    }
+    let c = dot(w, n);
+    if (light.flags & LIGHT_TWO_SIDED) != 0u {
+        return abs(c);
+    }
+    return max(c, 0.0);
+}
+
+// Light::sample_li for the abstract lights (the homogeneous form, times the
+// spot cone falloff and the range window of point and spot lights), and
+// FarField::sample_li for area lights.
 fn light_li(light: GpuLight, x: vec3<f32>) -> LightIncidence {
     var s = homogeneous_li(light.position, light.m, x);
     if s.valid == 0u || light.kind == LIGHT_DIRECTIONAL {
@@ -113,6 +132,8 @@ fn light_li(light: GpuLight, x: vec3<f32>) -> LightIncidence {
     var f = range_window(s.distance, light.range);
     if light.kind == LIGHT_SPOT {
         f = f * spot_falloff(light, -s.wi);
+    } else if light.kind == LIGHT_AREA {
+        f = area_lobe(light, -s.wi);
     }
     if f <= 0.0 {
         s.valid = 0u;
