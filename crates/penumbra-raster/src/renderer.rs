@@ -271,6 +271,7 @@ impl ForwardRenderer {
                 },
                 storage_entry(10, fragment, true),
                 uniform_entry(11, fragment),
+                storage_entry(19, fragment, true),
             ],
         });
         let params_layout = params_layout(device);
@@ -599,6 +600,7 @@ impl ForwardRenderer {
                 },
                 whole(10, &culling.tile_lights),
                 whole(11, &culling.uniform_buffer),
+                whole(19, &gpu.ambient),
             ],
         });
         let shadow_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {

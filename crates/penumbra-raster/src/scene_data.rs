@@ -22,6 +22,12 @@ pub struct SceneData {
     /// World-space meshes of the area lights (instances
     /// `scene.instances.len()..`), which cast no shadows.
     pub emitters: Vec<Mesh>,
+    /// Per material: the radiance it reflects of the environment taken as
+    /// uniform ambient light, `L̄ · albedo` (rgb, w unused), L̄ the constant
+    /// background or the map's mean radiance. Exact for Lambert under a
+    /// constant environment (the `local` integrator's unoccluded
+    /// environment light gives ρ L); other models use `Bsdf::albedo()`.
+    pub ambient: Vec<[f32; 4]>,
     /// What the raster path renders differently from the CPU `local`
     /// integrator for this scene.
     pub warnings: Vec<String>,
@@ -104,10 +110,30 @@ impl SceneData {
                     .to_string(),
             );
         }
-        if scene.environment_map.is_some() {
+        let env = match &scene.environment_map {
+            Some(map) => {
+                warnings.push(
+                    "raster: the environment map lights as uniform ambient light of its mean radiance and is not drawn; the background colour is used"
+                        .to_string(),
+                );
+                map.mean_radiance()
+            }
+            None => scene.background,
+        };
+        let mut ambient: Vec<[f32; 4]> = scene
+            .materials
+            .iter()
+            .map(|m| (env * m.bsdf.albedo()).extend(0.0).to_array())
+            .collect();
+        ambient.resize(materials.len(), [0.0; 4]);
+        if env != Vec3::ZERO
+            && scene
+                .materials
+                .iter()
+                .any(|m| !matches!(m.bsdf, penumbra_shading::bsdf::Bsdf::Lambert(_)))
+        {
             warnings.push(
-                "raster: the environment map is not drawn or lit from; the background colour is used"
-                    .to_string(),
+                "raster: ambient (environment) light on non-Lambert materials uses their normal-incidence albedo".to_string(),
             );
         }
         Self {
@@ -115,6 +141,7 @@ impl SceneData {
             materials,
             instances,
             emitters,
+            ambient,
             warnings,
         }
     }

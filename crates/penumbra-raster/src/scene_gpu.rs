@@ -146,6 +146,8 @@ pub(crate) struct SceneGpu {
     pub instances: wgpu::Buffer,
     pub materials: wgpu::Buffer,
     pub lights: wgpu::Buffer,
+    /// Per material: reflected ambient light (see `SceneData::ambient`).
+    pub ambient: wgpu::Buffer,
     /// The scene's lights (at least one entry, zeroed, for empty scenes).
     pub light_count: u32,
     /// Per mesh (the scene's, then the area lights' emitters); `None` for
@@ -249,6 +251,12 @@ impl SceneGpu {
                 storage,
             ),
             lights: buffer_init(device, "lights", bytemuck::cast_slice(&lights), storage),
+            ambient: buffer_init(
+                device,
+                "ambient",
+                bytemuck::cast_slice(&data.ambient),
+                storage,
+            ),
             light_count,
             meshes,
             draws,
