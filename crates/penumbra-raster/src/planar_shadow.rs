@@ -7,7 +7,9 @@
 
 use crate::gpu::GpuReceiver;
 use crate::receivers::Receiver;
-use crate::scene_gpu::{PassParams, SceneGpu, buffer_init, storage_entry, uniform_entry, whole};
+use crate::scene_gpu::{
+    PassParams, SceneGpu, begin_stencil_pass, buffer_init, storage_entry, uniform_entry, whole,
+};
 use crate::shaders::planar_shadow_source;
 use crate::timing::GpuTimer;
 use glam::Vec3;
@@ -193,24 +195,12 @@ impl PlanarShadows {
         depth_stencil: &wgpu::TextureView,
         timer: &GpuTimer,
     ) {
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("planar shadow"),
-            color_attachments: &[],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: depth_stencil,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Load,
-                    store: wgpu::StoreOp::Store,
-                }),
-                stencil_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(0),
-                    store: wgpu::StoreOp::Store,
-                }),
-            }),
-            timestamp_writes: timer.render_pass(&format!("planar shadow {light}")),
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
+        let mut pass = begin_stencil_pass(
+            encoder,
+            "planar shadow",
+            depth_stencil,
+            timer.render_pass(&format!("planar shadow {light}")),
+        );
         pass.set_bind_group(0, &frame.bind_group, &[]);
         let mut mesh_of = vec![None; gpu.instance_count as usize];
         for &(i, mesh) in &gpu.draws {

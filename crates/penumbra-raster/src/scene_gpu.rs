@@ -68,6 +68,35 @@ pub(crate) fn whole(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry
     }
 }
 
+/// A render pass over the depth-stencil target alone that keeps the depth
+/// (read by the depth test) and starts from a cleared stencil: the stencil
+/// pass of one light's planar shadows or shadow volumes.
+pub(crate) fn begin_stencil_pass<'e>(
+    encoder: &'e mut wgpu::CommandEncoder,
+    label: &str,
+    depth_stencil: &wgpu::TextureView,
+    timestamp_writes: Option<wgpu::RenderPassTimestampWrites<'_>>,
+) -> wgpu::RenderPass<'e> {
+    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some(label),
+        color_attachments: &[],
+        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+            view: depth_stencil,
+            depth_ops: Some(wgpu::Operations {
+                load: wgpu::LoadOp::Load,
+                store: wgpu::StoreOp::Store,
+            }),
+            stencil_ops: Some(wgpu::Operations {
+                load: wgpu::LoadOp::Clear(0),
+                store: wgpu::StoreOp::Store,
+            }),
+        }),
+        timestamp_writes,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    })
+}
+
 /// Layout of group 1 of every pass pipeline: one [`GpuPassParams`] slot,
 /// chosen per pass with a dynamic offset.
 pub(crate) fn params_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {

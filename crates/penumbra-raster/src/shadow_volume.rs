@@ -7,7 +7,9 @@
 
 use crate::camera::ORTHO_EXTRUSION_RADII;
 use crate::gpu::{GpuVolumeGeometry, GpuVolumeInstance};
-use crate::scene_gpu::{SceneGpu, buffer_init, storage_entry, uniform_entry, whole};
+use crate::scene_gpu::{
+    SceneGpu, begin_stencil_pass, buffer_init, storage_entry, uniform_entry, whole,
+};
 use crate::shaders::shadow_volume_source;
 use crate::timing::GpuTimer;
 use crate::topology::mesh_topology;
@@ -305,24 +307,12 @@ impl ShadowVolumes {
                 );
             }
         }
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("shadow volume stencil"),
-            color_attachments: &[],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: depth_stencil,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Load,
-                    store: wgpu::StoreOp::Store,
-                }),
-                stencil_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(0),
-                    store: wgpu::StoreOp::Store,
-                }),
-            }),
-            timestamp_writes: timer.render_pass(&format!("shadow volume stencil {light}")),
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
+        let mut pass = begin_stencil_pass(
+            encoder,
+            "shadow volume stencil",
+            depth_stencil,
+            timer.render_pass(&format!("shadow volume stencil {light}")),
+        );
         pass.set_bind_group(0, &frame.draw_group, &[]);
         pass.set_bind_group(1, params, &[params_offset]);
         pass.set_pipeline(&self.caps);

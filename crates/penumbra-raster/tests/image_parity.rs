@@ -231,6 +231,23 @@ fn point_directional_spot_and_phong_match_cpu_local() {
     parity(&ctx, "lights orthographic", &scene, ortho, 256);
 }
 
+/// Indices of the pixels whose whole 3 × 3 neighbourhood satisfies `keep`
+/// (away from silhouettes, which the CPU anti-aliases).
+fn interior_pixels(img: &Image, keep: impl Fn(Vec3) -> bool) -> Vec<usize> {
+    let (w, h) = (img.width as usize, img.height as usize);
+    let mut out = Vec::new();
+    for y in 1..h.saturating_sub(1) {
+        for x in 1..w.saturating_sub(1) {
+            let inside =
+                (y - 1..=y + 1).all(|v| (x - 1..=x + 1).all(|u| keep(img.pixels[v * w + u])));
+            if inside {
+                out.push(y * w + x);
+            }
+        }
+    }
+    out
+}
+
 /// Area lights shade as their far fields: a sphere light that every point
 /// of a Lambertian floor sees whole gives the exact irradiance (per pixel
 /// within the CPU's noise), a small disk far from the floor within a few
@@ -296,24 +313,19 @@ fn area_lights_shade_as_far_field_point_lights() {
         // Floor pixels whose 3 × 3 neighbourhood is all floor in the CPU
         // image (neither background, 0, nor the emitter, > 3).
         let floor_like = |p: Vec3| p.max_element() > 1e-4 && p.max_element() < 3.0;
-        let n = size as i32;
-        let at = |x: i32, y: i32| cpu.pixels[(y * n + x) as usize];
-        let mut worst = 0.0f32;
-        let mut floor_pixels = 0;
-        let mut emitter_pixels = 0;
-        for y in 1..n - 1 {
-            for x in 1..n - 1 {
-                let (c, g) = (at(x, y), out.image.pixels[(y * n + x) as usize]);
-                if c.max_element() > 3.0 && g.max_element() > 3.0 {
-                    emitter_pixels += 1; // the emitter itself, in both images
-                }
-                let interior = (-1..=1).all(|dy| (-1..=1).all(|dx| floor_like(at(x + dx, y + dy))));
-                if interior {
-                    floor_pixels += 1;
-                    worst = worst.max(((g - c).abs() / c).max_element());
-                }
-            }
-        }
+        let floor = interior_pixels(&cpu, floor_like);
+        let floor_pixels = floor.len();
+        let worst = floor
+            .iter()
+            .map(|&i| ((out.image.pixels[i] - cpu.pixels[i]).abs() / cpu.pixels[i]).max_element())
+            .fold(0.0f32, f32::max);
+        // The emitter itself, in both images.
+        let emitter_pixels = cpu
+            .pixels
+            .iter()
+            .zip(&out.image.pixels)
+            .filter(|(c, g)| c.max_element() > 3.0 && g.max_element() > 3.0)
+            .count();
         let (flip, _) = hdr_flip(&cpu, &out.image).expect("flip");
         eprintln!(
             "{name} light: {floor_pixels} floor pixels, worst relative difference {worst:.4}; {emitter_pixels} emitter pixels; mean HDR-FLIP {flip:.4}"
@@ -366,22 +378,9 @@ fn a_constant_environment_is_ambient_light() {
     for (what, value) in [("floor", floor_value), ("ball", ball_value)] {
         // Pixels whose 3 × 3 neighbourhood shows the same surface (the CPU
         // anti-aliases silhouettes).
-        let (mut sum_cpu, mut n) = (Vec3::ZERO, 0);
-        let w = size as i32;
-        let is = |x: i32, y: i32| {
-            (out.image.pixels[(y * w + x) as usize] - value)
-                .abs()
-                .max_element()
-                < 1e-5
-        };
-        for y in 1..w - 1 {
-            for x in 1..w - 1 {
-                if (-1..=1).all(|dy| (-1..=1).all(|dx| is(x + dx, y + dy))) {
-                    sum_cpu += cpu.pixels[(y * w + x) as usize];
-                    n += 1;
-                }
-            }
-        }
+        let same = interior_pixels(&out.image, |p| (p - value).abs().max_element() < 1e-5);
+        let n = same.len();
+        let sum_cpu: Vec3 = same.iter().map(|&i| cpu.pixels[i]).sum();
         let mean = sum_cpu / n.max(1) as f32;
         let err = ((mean - value).abs() / value).max_element();
         eprintln!("{what}: {n} pixels, raster {value}, CPU mean {mean}, relative {err:.4}");
