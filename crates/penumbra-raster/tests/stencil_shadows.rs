@@ -181,7 +181,7 @@ fn planar_shadows_match_cpu_direct_on_the_receiver() {
 
 /// Open meshes (single quads facing towards and away from the light, an
 /// open box without a lid) cast correct volumes, also seen from a camera
-/// that stands inside a shadow volume.
+/// that stands inside a shadow volume and through an orthographic camera.
 #[test]
 fn shadow_volumes_of_open_meshes_with_the_camera_inside_a_volume() {
     let Some(ctx) = common::gpu("shadow_volumes_of_open_meshes_with_the_camera_inside_a_volume")
@@ -255,7 +255,18 @@ fn shadow_volumes_of_open_meshes_with_the_camera_inside_a_volume() {
     let t = (2.0 - 1.0) / (lamp.y - 1.0);
     let cross = Vec3::new(-2.0, 1.0, 0.0).lerp(lamp, t);
     assert!(cross.x > -3.0 && cross.x < -1.0 && cross.z > -1.0 && cross.z < 1.0);
-    for (name, camera) in [("open-outside", outside), ("open-inside", inside)] {
+    // Orthographic views have no points at infinity: finite extrusion.
+    let ortho = Camera::look_at(
+        Vec3::new(2.0, 8.0, 6.0),
+        Vec3::ZERO,
+        Vec3::Y,
+        Projection::Orthographic { height: 10.0 },
+    );
+    for (name, camera) in [
+        ("open-outside", outside),
+        ("open-inside", inside),
+        ("open-orthographic", ortho),
+    ] {
         for msaa in [1, 4] {
             let c = compare(
                 &ctx,
