@@ -14,6 +14,7 @@
 pub mod camera;
 pub mod context;
 pub mod gpu;
+pub mod material_tables;
 pub mod renderer;
 pub mod scene_data;
 pub mod shaders;
