@@ -1,8 +1,10 @@
 //! The scene as the forward pass sees it: GPU lights, materials and
 //! instances, and warnings for what the raster path approximates.
 
-use crate::gpu::{GpuInstance, GpuLight, GpuMaterial};
+use crate::gpu::{GpuInstance, GpuLight, GpuMaterial, MODEL_METALLIC_ROUGHNESS};
+use crate::shaders::{FORWARD_BINDS_MATERIAL_TABLES, FORWARD_WGSL};
 use penumbra_scene::Scene;
+use penumbra_shading::bsdf::DELTA_ALPHA;
 
 /// The scene as the forward pass sees it, and what it approximates.
 #[derive(Clone, Debug, Default)]
@@ -28,6 +30,7 @@ impl SceneData {
                     bsdf_name(&m.bsdf)
                 ));
             }
+            warnings.extend(pass_warnings(&m.name, &g, m.bsdf.flags().transmission));
             if m.albedo_texture.is_some() || m.metallic_roughness_texture.is_some() {
                 warnings.push(format!(
                     "raster: material '{}': textures are ignored (untextured factors used)",
@@ -85,6 +88,31 @@ impl SceneData {
     }
 }
 
+/// Where the forward pass does not give a material's exact WGSL twin what
+/// it needs: the Kulla–Conty table (binding 8, see
+/// [`crate::shaders::FORWARD_BINDS_MATERIAL_TABLES`]) and, for transmissive
+/// materials seen from their back, `material_seen_from_back` (η → 1/η, as the
+/// CPU's `seen_from_back`), detected in the pass's source.
+fn pass_warnings(name: &str, g: &GpuMaterial, transmissive: bool) -> Vec<String> {
+    let mut out = Vec::new();
+    let diffuse = (1.0 - g.metallic) * (1.0 - g.transmission) > 0.0;
+    if !FORWARD_BINDS_MATERIAL_TABLES
+        && g.model == MODEL_METALLIC_ROUGHNESS
+        && g.alpha >= DELTA_ALPHA
+        && diffuse
+    {
+        out.push(format!(
+            "raster: material '{name}' (metallic-roughness): the diffuse base is weighted by the smooth-surface specular albedo (the forward pass does not bind the Kulla-Conty table yet)"
+        ));
+    }
+    if transmissive && !FORWARD_WGSL.contains("material_seen_from_back(") {
+        out.push(format!(
+            "raster: material '{name}': seen from its back it is shaded with its front-side index of refraction (the forward pass does not call material_seen_from_back yet)"
+        ));
+    }
+    out
+}
+
 fn bsdf_name(b: &penumbra_shading::bsdf::Bsdf) -> &'static str {
     use penumbra_shading::bsdf::Bsdf;
     match b {
@@ -104,7 +132,7 @@ mod tests {
     use super::*;
     use glam::{Mat4, Vec3};
     use penumbra_scene::{Material, SceneAreaLight, primitives};
-    use penumbra_shading::bsdf::{Bsdf, Mirror};
+    use penumbra_shading::bsdf::{Bsdf, MetallicRoughness, Mirror, RoughDielectric};
     use penumbra_shading::light::{AreaLight, Shape};
 
     #[test]
@@ -138,6 +166,26 @@ mod tests {
         // Every model has an exact twin (a mirror reflects no abstract light,
         // as in the CPU `local` integrator): no material warning.
         assert!(!w.contains("chrome"), "{w}");
+        // What the forward pass does not wire up yet is reported.
+        scene.add_material(Material {
+            bsdf: Bsdf::MetallicRoughness(MetallicRoughness::new(Vec3::ONE, 0.0, 0.5)),
+            ..Material::lambert("plastic", Vec3::ONE)
+        });
+        scene.add_material(Material {
+            bsdf: Bsdf::RoughDielectric(RoughDielectric::new(1.5, 0.1)),
+            ..Material::lambert("frosted", Vec3::ONE)
+        });
+        let w = SceneData::from_scene(&scene).warnings.join("\n");
+        assert_eq!(
+            w.contains("'plastic' (metallic-roughness)"),
+            !FORWARD_BINDS_MATERIAL_TABLES,
+            "{w}"
+        );
+        assert_eq!(
+            w.contains("'frosted': seen from its back"),
+            !FORWARD_WGSL.contains("material_seen_from_back("),
+            "{w}"
+        );
         assert!(w.contains("area light"), "{w}");
         assert!(w.contains("emissive"), "{w}");
     }
