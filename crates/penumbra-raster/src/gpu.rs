@@ -4,7 +4,7 @@
 
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat3, Mat4, Vec3};
-use penumbra_shading::bsdf::{Bsdf, PhongVariant};
+use penumbra_shading::bsdf::{Bsdf, FresnelModel, PhongVariant};
 use penumbra_shading::light::{FarField, Light};
 use std::mem::{offset_of, size_of};
 
@@ -22,6 +22,15 @@ pub const LIGHT_TWO_SIDED: u32 = 1;
 /// Material models (`GpuMaterial::model`), as the WGSL constants `MODEL_*`.
 pub const MODEL_LAMBERT: u32 = 0;
 pub const MODEL_PHONG_BLINN: u32 = 1;
+pub const MODEL_ROUGH_CONDUCTOR: u32 = 2;
+pub const MODEL_ROUGH_DIELECTRIC: u32 = 3;
+pub const MODEL_METALLIC_ROUGHNESS: u32 = 4;
+/// Mirror, Conductor, Dielectric: delta lobes only, `eval` ≡ 0.
+pub const MODEL_DELTA: u32 = 5;
+
+/// Fresnel of a rough conductor (`GpuMaterial::variant`), as WGSL `FRESNEL_*`.
+pub const FRESNEL_EXACT: u32 = 0;
+pub const FRESNEL_SCHLICK: u32 = 1;
 
 /// An abstract light in the notes' homogeneous form (WGSL `GpuLight`).
 #[repr(C)]
@@ -86,21 +95,46 @@ impl GpuLight {
     }
 }
 
-/// A material as the raster path shades it (WGSL `GpuMaterial`).
+/// A material as the raster path shades it (WGSL `GpuMaterial`): the
+/// parameters of every model's `eval` twin (a field is 0 where the model
+/// does not use it), plus emission.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuMaterial {
     pub model: u32,
+    /// Phong–Blinn: `PHONG_*` ([`phong_variant_index`]); rough conductor:
+    /// [`FRESNEL_EXACT`] or [`FRESNEL_SCHLICK`].
     pub variant: u32,
+    /// Phong–Blinn exponent.
     pub shininess: f32,
     pub double_sided: u32,
-    /// Diffuse coefficient kd = ρ/π [1/sr].
+    /// Lambert and Phong–Blinn diffuse coefficient kd = ρ/π [1/sr].
     pub kd: [f32; 3],
-    pub _pad0: f32,
+    /// GGX α of the rough conductor and dielectric (clamped as `Ggx::new`
+    /// clamps it) and of metallic–roughness (`roughness²`).
+    pub alpha: f32,
+    /// Phong–Blinn specular coefficient.
     pub ks: [f32; 3],
-    pub _pad1: f32,
+    /// Rough dielectric η = n_inside / n_outside; metallic–roughness ior.
+    pub ior: f32,
     pub emission: [f32; 3],
-    pub _pad2: f32,
+    /// Metallic–roughness perceptual roughness, clamped to [0, 1].
+    pub roughness: f32,
+    /// Metallic–roughness base colour; rough dielectric transmission tint.
+    pub base_color: [f32; 3],
+    /// Metallic–roughness metallic, clamped to [0, 1].
+    pub metallic: f32,
+    /// KHR_materials_specular `specularColorFactor`.
+    pub specular_color: [f32; 3],
+    /// KHR_materials_transmission factor, clamped to [0, 1].
+    pub transmission: f32,
+    /// Rough conductor n per band (the real part of the complex index).
+    pub conductor_eta: [f32; 3],
+    /// KHR_materials_specular `specularFactor`, clamped to [0, 1].
+    pub specular: f32,
+    /// Rough conductor κ per band.
+    pub conductor_k: [f32; 3],
+    pub _pad0: f32,
 }
 
 /// WGSL index of a Phong–Blinn variant (`PHONG_*`).
@@ -114,21 +148,22 @@ pub fn phong_variant_index(v: PhongVariant) -> u32 {
 }
 
 impl GpuMaterial {
-    /// The BRDF the raster path evaluates for `bsdf`, and whether it is exact.
-    /// Lambert and Phong–Blinn have WGSL twins; every other model is shaded
-    /// as Lambert with the model's directional albedo `albedo()` (an
-    /// approximation: no specular highlight, no delta lobes).
+    /// The BSDF the raster path evaluates for `bsdf`, and whether it is
+    /// exact (the WGSL `material_eval` twin equals `Bsdf::eval`). Every model
+    /// has a twin: Lambert, Phong–Blinn, the GGX rough conductor, rough
+    /// dielectric and metallic–roughness, and the delta models (Mirror,
+    /// Conductor, Dielectric), whose `eval` is 0. A surface seen from its back
+    /// goes through WGSL `material_seen_from_back` (Rust `seen_from_back`).
     pub fn from_bsdf(bsdf: &Bsdf, emission: Vec3, double_sided: bool) -> (Self, bool) {
         let mut m = Self {
             emission: emission.to_array(),
             double_sided: double_sided as u32,
             ..Self::default()
         };
-        let exact = match bsdf {
+        match bsdf {
             Bsdf::Lambert(l) => {
                 m.model = MODEL_LAMBERT;
                 m.kd = l.kd().to_array();
-                true
             }
             Bsdf::PhongBlinn(p) => {
                 m.model = MODEL_PHONG_BLINN;
@@ -136,15 +171,39 @@ impl GpuMaterial {
                 m.kd = p.kd.to_array();
                 m.ks = p.ks.to_array();
                 m.shininess = p.shininess;
-                true
             }
-            other => {
-                m.model = MODEL_LAMBERT;
-                m.kd = (other.albedo() * std::f32::consts::FRAC_1_PI).to_array();
-                false
+            Bsdf::RoughConductor(c) => {
+                m.model = MODEL_ROUGH_CONDUCTOR;
+                m.variant = match c.fresnel {
+                    FresnelModel::Exact => FRESNEL_EXACT,
+                    FresnelModel::Schlick => FRESNEL_SCHLICK,
+                };
+                m.conductor_eta = c.eta.to_array();
+                m.conductor_k = c.k.to_array();
+                m.alpha = c.ggx().alpha();
             }
-        };
-        (m, exact)
+            Bsdf::RoughDielectric(d) => {
+                m.model = MODEL_ROUGH_DIELECTRIC;
+                m.ior = d.eta;
+                m.alpha = d.ggx().alpha();
+                m.base_color = d.tint.to_array();
+            }
+            Bsdf::MetallicRoughness(mr) => {
+                m.model = MODEL_METALLIC_ROUGHNESS;
+                m.base_color = mr.base_color.to_array();
+                m.metallic = mr.metallic.clamp(0.0, 1.0);
+                m.roughness = mr.roughness.clamp(0.0, 1.0);
+                m.alpha = mr.alpha();
+                m.ior = mr.ior;
+                m.transmission = mr.transmission.clamp(0.0, 1.0);
+                m.specular = mr.specular.clamp(0.0, 1.0);
+                m.specular_color = mr.specular_color.to_array();
+            }
+            Bsdf::Mirror(_) | Bsdf::Conductor(_) | Bsdf::Dielectric(_) => {
+                m.model = MODEL_DELTA;
+            }
+        }
+        (m, true)
     }
 }
 
@@ -357,11 +416,19 @@ pub fn gpu_structs() -> Vec<HostLayout> {
                 shininess,
                 double_sided,
                 kd,
-                _pad0,
+                alpha,
                 ks,
-                _pad1,
+                ior,
                 emission,
-                _pad2
+                roughness,
+                base_color,
+                metallic,
+                specular_color,
+                transmission,
+                conductor_eta,
+                specular,
+                conductor_k,
+                _pad0
             ]
         ),
         host_layout!(
@@ -439,7 +506,10 @@ pub fn gpu_structs() -> Vec<HostLayout> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use penumbra_shading::bsdf::{Lambert, MetallicRoughness, PhongBlinn};
+    use penumbra_shading::bsdf::{
+        Conductor, Dielectric, Lambert, MIN_ALPHA, MetallicRoughness, Mirror, PhongBlinn,
+        RoughConductor, RoughDielectric,
+    };
     use penumbra_shading::light::{DirectionalLight, SpotLight};
 
     #[test]
@@ -457,12 +527,45 @@ mod tests {
         assert_eq!((Vec3::from(m.kd), Vec3::from(m.ks)), (p.kd, p.ks));
         assert_eq!(Vec3::from(m.emission), Vec3::X);
 
-        // No twin yet: Lambert with the model's albedo, reported as inexact.
-        let mr = Bsdf::MetallicRoughness(MetallicRoughness::new(rho, 0.0, 0.5));
-        let (m, exact) = GpuMaterial::from_bsdf(&mr, Vec3::ZERO, true);
-        assert!(!exact && m.model == MODEL_LAMBERT);
-        let expect = mr.albedo() * std::f32::consts::FRAC_1_PI;
-        assert!((Vec3::from(m.kd) - expect).abs().max_element() < 1e-7);
+        // Metallic–roughness: the clamped glTF factors, α = roughness².
+        let mut mr = MetallicRoughness::new(rho, 1.5, 0.5);
+        mr.transmission = 0.25;
+        mr.specular = -1.0;
+        mr.specular_color = Vec3::splat(2.0);
+        let (m, exact) = GpuMaterial::from_bsdf(&Bsdf::MetallicRoughness(mr), Vec3::ZERO, true);
+        assert!(exact && m.model == MODEL_METALLIC_ROUGHNESS);
+        assert_eq!(Vec3::from(m.base_color), rho);
+        assert_eq!((m.metallic, m.roughness, m.alpha), (1.0, 0.5, 0.25));
+        assert_eq!((m.ior, m.transmission, m.specular), (1.5, 0.25, 0.0));
+        assert_eq!(Vec3::from(m.specular_color), Vec3::splat(2.0));
+
+        // Rough conductor and dielectric: α clamped like Ggx::new.
+        let mut rc = RoughConductor::new(Vec3::new(0.2, 0.9, 1.1), Vec3::new(3.9, 2.4, 1.8), 0.0);
+        rc.fresnel = FresnelModel::Schlick;
+        let (m, exact) = GpuMaterial::from_bsdf(&Bsdf::RoughConductor(rc), Vec3::ZERO, true);
+        assert!(exact && m.model == MODEL_ROUGH_CONDUCTOR && m.variant == FRESNEL_SCHLICK);
+        assert_eq!(
+            (Vec3::from(m.conductor_eta), Vec3::from(m.conductor_k)),
+            (rc.eta, rc.k)
+        );
+        assert_eq!(m.alpha, MIN_ALPHA);
+        let rd = RoughDielectric {
+            tint: rho,
+            ..RoughDielectric::new(1.33, 0.2)
+        };
+        let (m, exact) = GpuMaterial::from_bsdf(&Bsdf::RoughDielectric(rd), Vec3::ZERO, true);
+        assert!(exact && m.model == MODEL_ROUGH_DIELECTRIC);
+        assert_eq!((m.ior, m.alpha, Vec3::from(m.base_color)), (1.33, 0.2, rho));
+
+        // Delta models: eval ≡ 0, exact.
+        for b in [
+            Bsdf::Mirror(Mirror::new(rho)),
+            Bsdf::Conductor(Conductor::new(rc.eta, rc.k, FresnelModel::Exact)),
+            Bsdf::Dielectric(Dielectric::new(1.5, rho, FresnelModel::Exact)),
+        ] {
+            let (m, exact) = GpuMaterial::from_bsdf(&b, Vec3::ZERO, true);
+            assert!(exact && m.model == MODEL_DELTA, "{b:?}");
+        }
     }
 
     #[test]

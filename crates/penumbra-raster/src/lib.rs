@@ -16,6 +16,7 @@ pub mod camera;
 pub mod context;
 pub mod gpu;
 pub mod light_culling;
+pub mod material_tables;
 mod planar_shadow;
 pub mod receivers;
 pub mod renderer;

@@ -14,9 +14,12 @@ use crate::camera::view_and_projection;
 use crate::context::{GpuContext, GpuError};
 use crate::gpu::GpuPassParams;
 use crate::light_culling::{CullingStats, LightCulling, MAX_CULLED_LIGHTS};
+use crate::material_tables::{KULLA_CONTY_BINDING, kulla_conty_table};
 use crate::planar_shadow::PlanarShadows;
 use crate::receivers::planar_receivers;
-use crate::scene_gpu::{PassParams, SceneGpu, params_layout, storage_entry, uniform_entry, whole};
+use crate::scene_gpu::{
+    PassParams, SceneGpu, buffer_init, params_layout, storage_entry, uniform_entry, whole,
+};
 use crate::shaders::forward_source;
 use crate::shadow_map::{
     DEFAULT_NORMAL_OFFSET, DEFAULT_SHADOW_MAP_SIZE, DEFAULT_SLOPE_BIAS, SHADOW_CONSTANT_BIAS,
@@ -136,6 +139,8 @@ pub struct ForwardRenderer {
     volumes: Option<ShadowVolumes>,
     planar: Option<PlanarShadows>,
     depth_format: wgpu::TextureFormat,
+    /// The metallic–roughness model's Kulla–Conty table (a constant).
+    kulla_conty: wgpu::Buffer,
     options: RasterOptions,
 }
 
@@ -269,6 +274,7 @@ impl ForwardRenderer {
                     ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
                     count: None,
                 },
+                storage_entry(KULLA_CONTY_BINDING, fragment, true),
                 storage_entry(10, fragment, true),
                 uniform_entry(11, fragment),
                 storage_entry(19, fragment, true),
@@ -485,6 +491,12 @@ impl ForwardRenderer {
             volumes,
             planar,
             depth_format,
+            kulla_conty: buffer_init(
+                device,
+                "kulla-conty table",
+                bytemuck::cast_slice(&kulla_conty_table()),
+                wgpu::BufferUsages::STORAGE,
+            ),
             options,
         })
     }
@@ -598,6 +610,7 @@ impl ForwardRenderer {
                     binding: 7,
                     resource: wgpu::BindingResource::Sampler(&self.shadow_sampler),
                 },
+                whole(KULLA_CONTY_BINDING, &self.kulla_conty),
                 whole(10, &culling.tile_lights),
                 whole(11, &culling.uniform_buffer),
                 whole(19, &gpu.ambient),

@@ -1,9 +1,25 @@
 //! The WGSL sources: the shading library (BRDF and light twins of the Rust
 //! models), the structs every pass shares with the host, and the passes
-//! built on them. Each pass module is the library followed by the pass.
+//! built on them. Each pass module is the library (with the Kulla–Conty
+//! table source, [`crate::material_tables`]) followed by the pass.
 
-/// BRDFs and lights shared by every pass and by the tests.
-pub const SHADING_WGSL: &str = include_str!("shaders/shading.wgsl");
+use crate::material_tables::kulla_conty_binding_wgsl;
+
+/// BRDFs and lights shared by every pass and by the tests (shading.wgsl
+/// followed by the GGX models of microfacet.wgsl). Needs a table source
+/// after it: see [`library`].
+pub const SHADING_WGSL: &str = concat!(
+    include_str!("shaders/shading.wgsl"),
+    "\n",
+    include_str!("shaders/microfacet.wgsl")
+);
+
+/// The shading library with its Kulla–Conty table source: the storage
+/// buffer at `@group(0) @binding(8)`, which a pipeline binds only if its
+/// entry points evaluate a metallic–roughness material.
+pub fn library() -> String {
+    format!("{SHADING_WGSL}\n{}", kulla_conty_binding_wgsl())
+}
 
 /// Host-shared structs of the raster passes (camera, instances, shadows,
 /// culling, per-pass parameters).
@@ -28,7 +44,7 @@ pub const PLANAR_SHADOW_WGSL: &str = include_str!("shaders/planar_shadow.wgsl");
 
 /// The complete forward shader module: library + structs + pass.
 pub fn forward_source() -> String {
-    format!("{SHADING_WGSL}\n{SCENE_WGSL}\n{FORWARD_WGSL}")
+    format!("{}\n{SCENE_WGSL}\n{FORWARD_WGSL}", library())
 }
 
 /// The light-culling module for a single- or multisampled depth buffer.
@@ -44,7 +60,7 @@ pub fn light_culling_source(multisampled: bool) -> String {
     let pass = LIGHT_CULLING_WGSL
         .replace("DEPTH_TEXTURE", texture)
         .replace("LOAD_DEPTH", load);
-    format!("{SHADING_WGSL}\n{SCENE_WGSL}\n{pass}")
+    format!("{}\n{SCENE_WGSL}\n{pass}", library())
 }
 
 /// The shadow-volume module: the facing compute pass (`facing_pass`) or
@@ -55,12 +71,12 @@ pub fn shadow_volume_source(facing_pass: bool) -> String {
     } else {
         SHADOW_VOLUME_DRAW_WGSL
     };
-    format!("{SHADING_WGSL}\n{SCENE_WGSL}\n{SHADOW_VOLUME_WGSL}\n{pass}")
+    format!("{}\n{SCENE_WGSL}\n{SHADOW_VOLUME_WGSL}\n{pass}", library())
 }
 
 /// The planar-shadow module.
 pub fn planar_shadow_source() -> String {
-    format!("{SHADING_WGSL}\n{SCENE_WGSL}\n{PLANAR_SHADOW_WGSL}")
+    format!("{}\n{SCENE_WGSL}\n{PLANAR_SHADOW_WGSL}", library())
 }
 
 /// Every pass module the renderer builds, by name (for the layout tests).
@@ -78,5 +94,5 @@ pub fn all_modules() -> Vec<(&'static str, String)> {
 /// A shader module made of the library followed by `entry_points`
 /// (compute kernels of the tests).
 pub fn with_library(entry_points: &str) -> String {
-    format!("{SHADING_WGSL}\n{entry_points}")
+    format!("{}\n{entry_points}", library())
 }

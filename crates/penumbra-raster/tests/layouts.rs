@@ -90,21 +90,30 @@ fn test_kernel_structs_match_wgsl() {
 #[test]
 fn layout_check_detects_a_mismatch() {
     // The comparison itself must be able to fail: a host struct that packs
-    // a vec3 right after a scalar (no 16-byte alignment) does not match.
+    // the vec3 `emission` right after `ks` (offset 44, not 16-aligned) does
+    // not match.
     let wrong = HostLayout {
         wgsl_name: "GpuMaterial",
-        size: 52,
+        size: 128,
         fields: vec![
             ("model", 0),
             ("variant", 4),
             ("shininess", 8),
             ("double_sided", 12),
             ("kd", 16),
-            ("_pad0", 28),
+            ("alpha", 28),
             ("ks", 32),
-            ("_pad1", 44),
-            ("emission", 40),
-            ("_pad2", 48),
+            ("ior", 44),
+            ("emission", 44),
+            ("roughness", 60),
+            ("base_color", 64),
+            ("metallic", 76),
+            ("specular_color", 80),
+            ("transmission", 92),
+            ("conductor_eta", 96),
+            ("specular", 108),
+            ("conductor_k", 112),
+            ("_pad0", 124),
         ],
     };
     let r = std::panic::catch_unwind(|| check(&[wrong], &forward_source()));

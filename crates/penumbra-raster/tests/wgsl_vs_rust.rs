@@ -1,18 +1,25 @@
 //! The WGSL twins against the Rust models: a compute shader evaluates the
-//! WGSL Lambert, every Phong–Blinn variant, the point, directional and spot
-//! lights (with and without a range) and the far fields of area lights on
-//! random inputs (≥ 10⁴ each, 5000 per light kind); every component must be
-//! within relative 1e-4 or absolute 1e-6 of `Bsdf::eval` /
-//! `Light::sample_li` / `FarField::sample_li`.
+//! WGSL BSDFs (Lambert, every Phong–Blinn variant, the GGX rough conductor
+//! and dielectric, metallic–roughness with its Kulla–Conty tables, the delta
+//! models) and lights (point, directional and spot, with and without a
+//! range, and the far fields of area lights) on random inputs (2·10⁴ per
+//! test, 5000 per light kind); every component must be within relative 1e-4
+//! or absolute 1e-6 of `Bsdf::eval` / `Light::sample_li` /
+//! `FarField::sample_li`, and the delta models exactly 0.
 
 mod common;
 
 use common::{BrdfCase, LightCase, LightIncidence, close};
 use glam::Vec3;
-use penumbra_raster::gpu::{GpuLight, MODEL_LAMBERT, MODEL_PHONG_BLINN, phong_variant_index};
+use penumbra_raster::gpu::{GpuLight, GpuMaterial, MODEL_LAMBERT};
+use penumbra_raster::material_tables::{KULLA_CONTY_BINDING, kulla_conty_table};
 use penumbra_raster::shaders::with_library;
 use penumbra_raster::{GpuContext, map_read};
-use penumbra_shading::bsdf::{Bsdf, Lambert, PhongBlinn, PhongVariant};
+use penumbra_shading::bsdf::{
+    Bsdf, CONDUCTOR_PRESETS, Conductor, DELTA_ALPHA, Dielectric, FresnelModel, Lambert, MIN_ALPHA,
+    MetallicRoughness, Mirror, PhongBlinn, PhongVariant, RoughConductor, RoughDielectric,
+    conductor_preset,
+};
 use penumbra_shading::light::{
     AreaLight, DirectionalLight, FarField, Light, PointLight, Shape, SpotLight,
 };
@@ -39,18 +46,22 @@ fn colour(rng: &mut TestRng, scale: f32) -> Vec3 {
     Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * scale
 }
 
-/// Runs `entry` over `input` (binding 0 or 2) and returns `count` outputs.
+/// Runs `entry` over `input` (binding `input_binding`, output at the next
+/// binding; with `bind_table`, the Kulla–Conty table at binding 8) and
+/// returns `count` outputs.
 fn dispatch<T: bytemuck::Pod>(
     ctx: &GpuContext,
+    bind_table: bool,
     entry: &str,
     input: &[u8],
     count: usize,
     input_binding: u32,
 ) -> Vec<T> {
     let device = &ctx.device;
+    let source = with_library(common::KERNELS_WGSL);
     let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some("twins"),
-        source: wgpu::ShaderSource::Wgsl(with_library(common::KERNELS_WGSL).into()),
+        source: wgpu::ShaderSource::Wgsl(source.into()),
     });
     let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
         label: Some(entry),
@@ -66,6 +77,11 @@ fn dispatch<T: bytemuck::Pod>(
         contents: input,
         usage: wgpu::BufferUsages::STORAGE,
     });
+    let table_buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("kulla-conty"),
+        contents: bytemuck::cast_slice(&kulla_conty_table()),
+        usage: wgpu::BufferUsages::STORAGE,
+    });
     let output = device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("output"),
         size: out_size,
@@ -78,19 +94,26 @@ fn dispatch<T: bytemuck::Pod>(
         usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     });
+    let mut entries = vec![
+        wgpu::BindGroupEntry {
+            binding: input_binding,
+            resource: input_buf.as_entire_binding(),
+        },
+        wgpu::BindGroupEntry {
+            binding: input_binding + 1,
+            resource: output.as_entire_binding(),
+        },
+    ];
+    if bind_table {
+        entries.push(wgpu::BindGroupEntry {
+            binding: KULLA_CONTY_BINDING,
+            resource: table_buf.as_entire_binding(),
+        });
+    }
     let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: None,
         layout: &pipeline.get_bind_group_layout(0),
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: input_binding,
-                resource: input_buf.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: input_binding + 1,
-                resource: output.as_entire_binding(),
-            },
-        ],
+        entries: &entries,
     });
     let mut encoder = device.create_command_encoder(&Default::default());
     {
@@ -105,6 +128,124 @@ fn dispatch<T: bytemuck::Pod>(
     bytemuck::cast_slice(&bytes).to_vec()
 }
 
+/// How a case presents the material's back side to the GPU.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Side {
+    Front,
+    /// Rust `seen_from_back`, WGSL `material_seen_from_back` of the front.
+    BackOnGpu,
+    /// Rust `seen_from_back`, uploaded already inverted.
+    BackOnHost,
+}
+
+/// One BRDF case: the model Rust evaluates (its back already applied) and
+/// what the GPU gets.
+struct Case {
+    bsdf: Bsdf,
+    gpu: BrdfCase,
+}
+
+fn case(front: Bsdf, side: Side, wo: Vec3, wi: Vec3) -> Case {
+    let back = front.seen_from_back();
+    let (uploaded, flag) = match side {
+        Side::Front => (front, 0),
+        Side::BackOnGpu => (front, 1),
+        Side::BackOnHost => (back, 0),
+    };
+    let (mat, exact) = GpuMaterial::from_bsdf(&uploaded, Vec3::ZERO, true);
+    assert!(exact, "{uploaded:?}");
+    Case {
+        bsdf: if side == Side::Front { front } else { back },
+        gpu: BrdfCase {
+            mat,
+            wo: wo.to_array(),
+            back: flag,
+            wi: wi.to_array(),
+            _pad0: 0.0,
+        },
+    }
+}
+
+/// Directions for a case: a third both anywhere on the sphere, a third wo
+/// above and wi anywhere, a third wi sampled from `bsdf` itself (its
+/// reflection and transmission peaks, where narrow lobes are non-zero).
+fn directions(rng: &mut TestRng, bsdf: &Bsdf, i: usize) -> (Vec3, Vec3) {
+    let mut wo = unit(rng);
+    let wi = unit(rng);
+    if i.is_multiple_of(3) {
+        return (wo, wi);
+    }
+    wo.z = wo.z.abs();
+    if i % 3 == 2 {
+        let u_lobe = rng.next_f32();
+        let u = rng.next_2d();
+        if let Some(s) = bsdf.sample(wo, u_lobe, u) {
+            return (wo, s.wi);
+        }
+    }
+    (wo, wi)
+}
+
+/// What a comparison saw.
+#[derive(Debug, Default)]
+struct Stats {
+    /// Cases with a non-zero Rust value, wi above / below the surface.
+    reflected: usize,
+    transmitted: usize,
+    /// Worst |GPU − Rust| / |Rust| over components with |Rust| > 1e-6.
+    worst: f32,
+}
+
+/// Every component of every case within `close` of `Bsdf::eval`.
+fn compare(name: &str, cases: &[Case], gpu: &[[f32; 4]]) -> Stats {
+    let mut stats = Stats::default();
+    for (i, (c, out)) in cases.iter().zip(gpu).enumerate() {
+        let (wo, wi) = (Vec3::from(c.gpu.wo), Vec3::from(c.gpu.wi));
+        let cpu = c.bsdf.eval(wo, wi);
+        let g = Vec3::new(out[0], out[1], out[2]);
+        assert!(cpu.is_finite(), "{name} case {i}: Rust {cpu:?}");
+        for k in 0..3 {
+            assert!(
+                close(g[k], cpu[k]),
+                "{name} case {i} ({:?}, back {}, wo {wo:?}, wi {wi:?}): GPU {g:?} vs Rust {cpu:?}",
+                c.bsdf,
+                c.gpu.back
+            );
+            if cpu[k].abs() > 1e-6 {
+                stats.worst = stats.worst.max((g[k] - cpu[k]).abs() / cpu[k].abs());
+            }
+        }
+        if cpu.max_element() > 0.0 {
+            if wi.z > 0.0 {
+                stats.reflected += 1;
+            } else {
+                stats.transmitted += 1;
+            }
+        }
+    }
+    eprintln!(
+        "{name}: {} cases, non-zero with wi above {} / below {}, worst relative error {:.3e}",
+        cases.len(),
+        stats.reflected,
+        stats.transmitted,
+        stats.worst
+    );
+    stats
+}
+
+/// Evaluates `cases` on the GPU with the table source `tables`.
+fn eval_cases(ctx: &GpuContext, cases: &[Case]) -> Vec<[f32; 4]> {
+    let input: Vec<BrdfCase> = cases.iter().map(|c| c.gpu).collect();
+    dispatch(
+        ctx,
+        true,
+        "eval_brdf",
+        bytemuck::cast_slice(&input),
+        input.len(),
+        0,
+    )
+}
+
 #[test]
 fn wgsl_brdfs_match_rust() {
     let Some(ctx) = common::gpu("wgsl_brdfs_match_rust") else {
@@ -112,7 +253,6 @@ fn wgsl_brdfs_match_rust() {
     };
     let mut rng = TestRng::new(7);
     let mut cases = Vec::with_capacity(CASES);
-    let mut models = Vec::with_capacity(CASES);
     for i in 0..CASES {
         // Mostly both directions above the surface; some below.
         let mut wo = unit(&mut rng);
@@ -128,60 +268,26 @@ fn wgsl_brdfs_match_rust() {
             1 => (rng.next_f32() * 8.0).floor(),
             _ => rng.next_f32() * 200.0,
         };
-        let (bsdf, model, variant) = if i % 5 == 4 {
-            (Bsdf::Lambert(Lambert::from_kd(kd)), MODEL_LAMBERT, 0)
+        let bsdf = if i % 5 == 4 {
+            Bsdf::Lambert(Lambert::from_kd(kd))
         } else {
-            let v = PhongVariant::ALL[i % 4];
-            (
-                Bsdf::PhongBlinn(PhongBlinn::new(kd, ks, shininess, v)),
-                MODEL_PHONG_BLINN,
-                phong_variant_index(v),
-            )
+            Bsdf::PhongBlinn(PhongBlinn::new(kd, ks, shininess, PhongVariant::ALL[i % 4]))
         };
-        let gpu_kd = match bsdf {
-            Bsdf::Lambert(l) => l.kd(),
-            _ => kd,
-        };
-        cases.push(BrdfCase {
-            wo: wo.to_array(),
-            shininess,
-            wi: wi.to_array(),
-            model,
-            kd: gpu_kd.to_array(),
-            variant,
-            ks: ks.to_array(),
-            _pad0: 0.0,
-        });
-        models.push(bsdf);
+        cases.push(case(bsdf, Side::Front, wo, wi));
     }
-    let out: Vec<[f32; 4]> = dispatch(&ctx, "eval_brdf", bytemuck::cast_slice(&cases), CASES, 0);
-    let mut worst = 0f32;
+    let out = eval_cases(&ctx, &cases);
+    compare("Lambert and Phong-Blinn", &cases, &out);
     let mut counts = [0usize; 5];
-    for (i, (c, bsdf)) in cases.iter().zip(&models).enumerate() {
-        let cpu = bsdf.eval(Vec3::from(c.wo), Vec3::from(c.wi));
-        let g = Vec3::new(out[i][0], out[i][1], out[i][2]);
-        for k in 0..3 {
-            assert!(
-                close(g[k], cpu[k]),
-                "case {i} ({bsdf:?}, wo {:?}, wi {:?}): GPU {g:?} vs Rust {cpu:?}",
-                c.wo,
-                c.wi
-            );
-            if cpu[k].abs() > 1e-6 {
-                worst = worst.max((g[k] - cpu[k]).abs() / cpu[k].abs());
-            }
-        }
-        if cpu.max_element() > 0.0 {
-            counts[if c.model == MODEL_LAMBERT {
+    for (c, o) in cases.iter().zip(&out) {
+        if o[..3].iter().any(|&v| v > 0.0) {
+            counts[if c.gpu.mat.model == MODEL_LAMBERT {
                 4
             } else {
-                c.variant as usize
+                c.gpu.mat.variant as usize
             }] += 1;
         }
     }
-    eprintln!(
-        "BRDF cases: {CASES}, non-zero per variant/Lambert {counts:?}, worst relative error {worst:.3e}"
-    );
+    eprintln!("non-zero per Phong variant/Lambert {counts:?}");
     // Every model was exercised with non-zero values.
     assert!(counts.iter().all(|&n| n > 1000), "{counts:?}");
 }
@@ -215,6 +321,274 @@ impl TestLight {
             TestLight::Area(_) => f32::INFINITY,
         }
     }
+}
+
+/// GGX α for the rough models: half log-uniform over [MIN_ALPHA, 1], half
+/// roughness² with roughness uniform (α = 0 included: clamped to MIN_ALPHA).
+fn ggx_alpha(rng: &mut TestRng) -> f32 {
+    if rng.next_f32() < 0.5 {
+        MIN_ALPHA * (1.0 / MIN_ALPHA).powf(rng.next_f32())
+    } else {
+        let r = rng.next_f32();
+        r * r
+    }
+}
+
+/// ior 1.0–2.5, a few exactly 1.
+fn ior(rng: &mut TestRng) -> f32 {
+    if rng.next_f32() < 0.05 {
+        1.0
+    } else {
+        1.0 + 1.5 * rng.next_f32()
+    }
+}
+
+fn side(rng: &mut TestRng) -> Side {
+    match (rng.next_f32() * 4.0) as u32 {
+        0 | 1 => Side::Front,
+        2 => Side::BackOnGpu,
+        _ => Side::BackOnHost,
+    }
+}
+
+#[test]
+fn wgsl_rough_conductor_matches_rust() {
+    let Some(ctx) = common::gpu("wgsl_rough_conductor_matches_rust") else {
+        return;
+    };
+    let mut rng = TestRng::new(21);
+    let mut cases = Vec::with_capacity(CASES);
+    let mut schlick = 0;
+    for i in 0..CASES {
+        // Random indices (n 0.05–3, κ 0–5 per band) and the named metals.
+        let (eta, k) = if i % 8 == 0 {
+            let name = CONDUCTOR_PRESETS[(i / 8) % CONDUCTOR_PRESETS.len()];
+            conductor_preset(name).unwrap()
+        } else {
+            (
+                colour(&mut rng, 2.95) + Vec3::splat(0.05),
+                colour(&mut rng, 5.0),
+            )
+        };
+        let mut rc = RoughConductor::new(eta, k, ggx_alpha(&mut rng));
+        if rng.next_f32() < 0.5 {
+            rc.fresnel = FresnelModel::Schlick;
+            schlick += 1;
+        }
+        let bsdf = Bsdf::RoughConductor(rc);
+        let (wo, wi) = directions(&mut rng, &bsdf, i);
+        cases.push(case(bsdf, Side::Front, wo, wi));
+    }
+    let out = eval_cases(&ctx, &cases);
+    let s = compare("rough conductor", &cases, &out);
+    assert!(
+        s.reflected > 8000 && schlick > 8000,
+        "{s:?}, Schlick {schlick}"
+    );
+    // The non-zero values include the narrow lobes' large peaks.
+    let peaks = cases
+        .iter()
+        .filter(|c| {
+            c.bsdf
+                .eval(Vec3::from(c.gpu.wo), Vec3::from(c.gpu.wi))
+                .max_element()
+                > 100.0
+        })
+        .count();
+    assert!(peaks > 1000, "{peaks}");
+}
+
+#[test]
+fn wgsl_rough_dielectric_matches_rust() {
+    let Some(ctx) = common::gpu("wgsl_rough_dielectric_matches_rust") else {
+        return;
+    };
+    let mut rng = TestRng::new(33);
+    let mut cases = Vec::with_capacity(CASES);
+    let mut backs = 0;
+    for i in 0..CASES {
+        let rd = RoughDielectric {
+            tint: colour(&mut rng, 1.0),
+            ..RoughDielectric::new(ior(&mut rng), ggx_alpha(&mut rng))
+        };
+        let sd = side(&mut rng);
+        backs += (sd != Side::Front) as usize;
+        let bsdf = Bsdf::RoughDielectric(rd);
+        let seen = if sd == Side::Front {
+            bsdf
+        } else {
+            bsdf.seen_from_back()
+        };
+        let (wo, wi) = directions(&mut rng, &seen, i);
+        cases.push(case(bsdf, sd, wo, wi));
+    }
+    let out = eval_cases(&ctx, &cases);
+    let s = compare("rough dielectric", &cases, &out);
+    assert!(
+        s.reflected > 4000 && s.transmitted > 4000 && backs > 8000,
+        "{s:?}, back {backs}"
+    );
+}
+
+/// A random glTF metallic–roughness material over the whole parameter range.
+fn metallic_roughness(rng: &mut TestRng) -> MetallicRoughness {
+    let u = rng.next_f32();
+    let roughness = if u < 0.05 {
+        // Delta lobes (α < DELTA_ALPHA): only the diffuse base is evaluated.
+        DELTA_ALPHA.sqrt() * rng.next_f32()
+    } else if u < 0.15 {
+        // Just above DELTA_ALPHA.
+        (DELTA_ALPHA * (1.0 + rng.next_f32())).sqrt()
+    } else {
+        DELTA_ALPHA.sqrt() + (1.0 - DELTA_ALPHA.sqrt()) * rng.next_f32()
+    };
+    let pick = |rng: &mut TestRng, p0: f32, p1: f32| {
+        let u = rng.next_f32();
+        if u < p0 {
+            0.0
+        } else if u < p0 + p1 {
+            1.0
+        } else {
+            rng.next_f32()
+        }
+    };
+    let mut m = MetallicRoughness::new(colour(rng, 1.0), pick(rng, 0.3, 0.15), roughness);
+    m.ior = ior(rng);
+    m.transmission = pick(rng, 0.3, 0.2);
+    m.specular = if rng.next_f32() < 0.3 {
+        1.0
+    } else {
+        rng.next_f32()
+    };
+    m.specular_color = match (rng.next_f32() * 3.0) as u32 {
+        0 => Vec3::ONE,
+        // Up to 8: f0 reaches its clamp at 1.
+        1 => colour(rng, 8.0),
+        _ => colour(rng, 1.0),
+    };
+    m
+}
+
+#[test]
+fn wgsl_metallic_roughness_matches_rust() {
+    let Some(ctx) = common::gpu("wgsl_metallic_roughness_matches_rust") else {
+        return;
+    };
+    let mut rng = TestRng::new(45);
+    let mut cases = Vec::with_capacity(CASES);
+    let (mut backs, mut transmissive_backs) = (0, 0);
+    for i in 0..CASES {
+        let mr = metallic_roughness(&mut rng);
+        let sd = side(&mut rng);
+        let bsdf = Bsdf::MetallicRoughness(mr);
+        if sd != Side::Front {
+            backs += 1;
+            transmissive_backs += bsdf.flags().transmission as usize;
+        }
+        let seen = if sd == Side::Front {
+            bsdf
+        } else {
+            bsdf.seen_from_back()
+        };
+        let (wo, wi) = directions(&mut rng, &seen, i);
+        cases.push(case(bsdf, sd, wo, wi));
+    }
+    let out = eval_cases(&ctx, &cases);
+    let s = compare("metallic-roughness", &cases, &out);
+    assert!(
+        s.reflected > 8000 && s.transmitted > 1000 && transmissive_backs > 2000,
+        "{s:?}, back {backs}, transmissive back {transmissive_backs}"
+    );
+    // Among the reflected: diffuse-only (delta) and glossy-only (metal) ones.
+    let delta_diffuse = cases
+        .iter()
+        .zip(&out)
+        .filter(|(c, o)| {
+            matches!(c.bsdf, Bsdf::MetallicRoughness(m) if m.is_delta()) && o[0] + o[1] + o[2] > 0.0
+        })
+        .count();
+    assert!(delta_diffuse > 200, "{delta_diffuse}");
+}
+
+#[test]
+fn wgsl_delta_models_are_zero() {
+    let Some(ctx) = common::gpu("wgsl_delta_models_are_zero") else {
+        return;
+    };
+    let mut rng = TestRng::new(57);
+    let mut cases = Vec::with_capacity(CASES);
+    for i in 0..CASES {
+        let fresnel = if i % 2 == 0 {
+            FresnelModel::Exact
+        } else {
+            FresnelModel::Schlick
+        };
+        let bsdf = match i % 5 {
+            0 => Bsdf::Mirror(Mirror::new(colour(&mut rng, 1.0))),
+            1 => Bsdf::Conductor(Conductor::new(
+                colour(&mut rng, 3.0),
+                colour(&mut rng, 5.0),
+                fresnel,
+            )),
+            2 => Bsdf::Dielectric(Dielectric::new(
+                ior(&mut rng),
+                colour(&mut rng, 1.0),
+                fresnel,
+            )),
+            // Metallic–roughness with delta lobes and no diffuse base
+            // (metal, or fully transmissive).
+            k => {
+                let mut m = metallic_roughness(&mut rng);
+                m.roughness = DELTA_ALPHA.sqrt() * 0.999 * rng.next_f32();
+                if k == 3 {
+                    m.metallic = 1.0;
+                } else {
+                    m.transmission = 1.0;
+                }
+                Bsdf::MetallicRoughness(m)
+            }
+        };
+        let sd = side(&mut rng);
+        let seen = if sd == Side::Front {
+            bsdf
+        } else {
+            bsdf.seen_from_back()
+        };
+        // Anywhere, and exactly along the delta lobes.
+        let mut wo = unit(&mut rng);
+        let mut wi = unit(&mut rng);
+        if i % 3 != 0 {
+            wo.z = wo.z.abs();
+            let lobes = seen.specular(wo);
+            if let Some((d, _)) = lobes.iter().nth(i % 2) {
+                wi = d;
+            } else if let Some((d, _)) = lobes.iter().next() {
+                wi = d;
+            }
+        }
+        cases.push(case(bsdf, sd, wo, wi));
+    }
+    let out = eval_cases(&ctx, &cases);
+    for (i, (c, o)) in cases.iter().zip(&out).enumerate() {
+        let cpu = c.bsdf.eval(Vec3::from(c.gpu.wo), Vec3::from(c.gpu.wi));
+        assert_eq!(cpu, Vec3::ZERO, "case {i}: {:?}", c.bsdf);
+        assert!(
+            o[..3].iter().all(|v| v.to_bits() == 0),
+            "case {i} ({:?}, wo {:?}, wi {:?}): GPU {o:?}, not exactly 0",
+            c.bsdf,
+            c.gpu.wo,
+            c.gpu.wi
+        );
+    }
+    let along_lobes = cases
+        .iter()
+        .filter(|c| !c.bsdf.specular(Vec3::from(c.gpu.wo)).is_empty())
+        .count();
+    eprintln!(
+        "delta models: {} cases, {along_lobes} with delta lobes at wo",
+        cases.len()
+    );
+    assert!(along_lobes > 10_000, "{along_lobes}");
 }
 
 #[test]
@@ -308,8 +682,14 @@ fn wgsl_lights_match_rust() {
         });
         lights.push(light);
     }
-    let out: Vec<LightIncidence> =
-        dispatch(&ctx, "eval_light", bytemuck::cast_slice(&cases), CASES, 2);
+    let out: Vec<LightIncidence> = dispatch(
+        &ctx,
+        false,
+        "eval_light",
+        bytemuck::cast_slice(&cases),
+        CASES,
+        2,
+    );
     let mut lit = [0usize; 4];
     let mut falloff_band = 0;
     let mut window_band = 0;

@@ -131,6 +131,9 @@ struct Surface {
     ng: vec3<f32>,
     frame: Frame,
     wo_local: vec3<f32>,
+    // The material as seen from the viewer's side (Bsdf::seen_from_back
+    // applied on the back of a surface).
+    mat: GpuMaterial,
     material: u32,
     // Emission towards the viewer.
     emission: vec3<f32>,
@@ -161,7 +164,13 @@ fn surface_of(in: VsOut, facing: bool, ng_raw: vec3<f32>) -> Surface {
     if front || mat.double_sided != 0u {
         s.emission = mat.emission;
     }
-    s.lit = select(0u, 1u, front || mat.double_sided != 0u);
+    // The back of a surface is lit if the material is two-sided or
+    // transmissive, and then seen from inside (η → 1/η), as on the CPU.
+    s.lit = select(0u, 1u, front || mat.double_sided != 0u || material_transmissive(mat));
+    s.mat = mat;
+    if !front {
+        s.mat = material_seen_from_back(mat);
+    }
 
     // Normals on the visible side, the shading normal on the side of ng.
     var ng = ng_raw;
@@ -206,7 +215,7 @@ fn unshadowed_contribution(s: Surface, i: u32) -> vec3<f32> {
     let wl = to_local(s.frame, l.wi);
     let g = dot(l.wi, s.ng);
     if g != 0.0 && wl.z != 0.0 && (g > 0.0) == (wl.z > 0.0) {
-        return material_eval(materials[s.material], s.wo_local, wl) * l.value * abs(wl.z);
+        return material_eval(s.mat, s.wo_local, wl) * l.value * abs(wl.z);
     }
     return vec3<f32>(0.0);
 }

@@ -1,5 +1,6 @@
 // penumbra shading library: WGSL twins of the Rust BRDFs and abstract lights
-// (crates/penumbra-shading/src/bsdf/{lambert,phong}.rs, light/*.rs).
+// (crates/penumbra-shading/src/bsdf/*.rs, light/*.rs); the GGX models are in
+// microfacet.wgsl, which the host appends (crates/penumbra-raster/src/shaders.rs).
 // Structs shared with the host mirror the `#[repr(C)]` structs of
 // crates/penumbra-raster/src/gpu.rs; a test compares their layouts with naga.
 
@@ -13,6 +14,15 @@ const LIGHT_TWO_SIDED: u32 = 1u;
 
 const MODEL_LAMBERT: u32 = 0u;
 const MODEL_PHONG_BLINN: u32 = 1u;
+const MODEL_ROUGH_CONDUCTOR: u32 = 2u;
+const MODEL_ROUGH_DIELECTRIC: u32 = 3u;
+const MODEL_METALLIC_ROUGHNESS: u32 = 4u;
+// Mirror, Conductor, Dielectric: delta lobes only, eval ≡ 0.
+const MODEL_DELTA: u32 = 5u;
+
+// GpuMaterial::variant of a rough conductor.
+const FRESNEL_EXACT: u32 = 0u;
+const FRESNEL_SCHLICK: u32 = 1u;
 
 const PHONG_NOTES: u32 = 0u;
 const PHONG_MAX_BLINN: u32 = 1u;
@@ -39,19 +49,34 @@ struct GpuLight {
     _pad2: f32,
 }
 
-// A material as the raster path shades it: Lambert (kd = ρ/π) or
-// Phong–Blinn (kd + ks · lobe), plus emission.
+// A material as the raster path shades it (host: gpu.rs `GpuMaterial`),
+// plus emission. Per model:
+// - Lambert: kd = ρ/π; Phong–Blinn: kd, ks, shininess, variant = PHONG_*;
+// - rough conductor: conductor_eta, conductor_k (n + iκ per band), alpha (GGX
+//   α, clamped like Ggx::new), variant = FRESNEL_*;
+// - rough dielectric: ior (η = n_inside / n_outside), alpha, base_color (tint);
+// - metallic–roughness: base_color, metallic, roughness (clamped to [0, 1]),
+//   alpha = roughness², ior, transmission, specular (clamped), specular_color;
+// - delta models: nothing (eval ≡ 0).
 struct GpuMaterial {
     model: u32,
     variant: u32,
     shininess: f32,
     double_sided: u32,
     kd: vec3<f32>,
-    _pad0: f32,
+    alpha: f32,
     ks: vec3<f32>,
-    _pad1: f32,
+    ior: f32,
     emission: vec3<f32>,
-    _pad2: f32,
+    roughness: f32,
+    base_color: vec3<f32>,
+    metallic: f32,
+    specular_color: vec3<f32>,
+    transmission: f32,
+    conductor_eta: vec3<f32>,
+    specular: f32,
+    conductor_k: vec3<f32>,
+    _pad0: f32,
 }
 
 // Incident light at a point: unit direction towards the light and the
@@ -195,12 +220,47 @@ fn phong_eval(kd: vec3<f32>, ks: vec3<f32>, shininess: f32, variant: u32, wo: ve
     return kd + ks * phong_lobe(variant, wo, wi, shininess);
 }
 
-// The material's BRDF f(wo, wi) in the local frame.
+// The material's BSDF f(wo, wi) in the local frame, non-delta lobes only
+// (Rust: Bsdf::eval; wi below the surface reaches the transmission lobes).
+// A surface seen from its back must first go through material_seen_from_back.
 fn material_eval(mat: GpuMaterial, wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
-    if mat.model == MODEL_PHONG_BLINN {
-        return phong_eval(mat.kd, mat.ks, mat.shininess, mat.variant, wo, wi);
+    switch mat.model {
+        case MODEL_LAMBERT: {
+            return lambert_eval(mat.kd, wo, wi);
+        }
+        case MODEL_PHONG_BLINN: {
+            return phong_eval(mat.kd, mat.ks, mat.shininess, mat.variant, wo, wi);
+        }
+        case MODEL_ROUGH_CONDUCTOR: {
+            return rough_conductor_eval(mat, wo, wi);
+        }
+        case MODEL_ROUGH_DIELECTRIC: {
+            return rough_dielectric_eval(mat, wo, wi);
+        }
+        case MODEL_METALLIC_ROUGHNESS: {
+            return metallic_roughness_eval(mat, wo, wi);
+        }
+        default: {
+            return vec3<f32>(0.0);
+        }
     }
-    return lambert_eval(mat.kd, wo, wi);
+}
+
+// BsdfFlags::transmission of the models with a rough transmission lobe
+// (such materials are two-sided, as on the CPU).
+fn material_transmissive(mat: GpuMaterial) -> bool {
+    return mat.model == MODEL_ROUGH_DIELECTRIC
+        || (mat.model == MODEL_METALLIC_ROUGHNESS && mr_has_transmission(mat));
+}
+
+// Bsdf::seen_from_back: transmissive models get η → 1/η (the shading point
+// is inside the medium); every other material is unchanged.
+fn material_seen_from_back(mat: GpuMaterial) -> GpuMaterial {
+    var m = mat;
+    if material_transmissive(mat) {
+        m.ior = 1.0 / mat.ior;
+    }
+    return m;
 }
 
 // Frame::from_normal (Duff et al.), so local vectors equal the CPU's.

@@ -4,7 +4,7 @@
 
 use bytemuck::{Pod, Zeroable};
 use penumbra_raster::GpuContext;
-use penumbra_raster::gpu::{GpuLight, HostLayout};
+use penumbra_raster::gpu::{GpuLight, GpuMaterial, HostLayout};
 use std::mem::{offset_of, size_of};
 use std::path::PathBuf;
 
@@ -31,17 +31,15 @@ pub fn reference_dir(scene: &str) -> PathBuf {
         .join(scene)
 }
 
-/// One BRDF evaluation (WGSL `BrdfCase`).
+/// One BRDF evaluation (WGSL `BrdfCase`): `material_eval(mat, wo, wi)`, of
+/// `material_seen_from_back(mat)` when `back` ≠ 0.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct BrdfCase {
+    pub mat: GpuMaterial,
     pub wo: [f32; 3],
-    pub shininess: f32,
+    pub back: u32,
     pub wi: [f32; 3],
-    pub model: u32,
-    pub kd: [f32; 3],
-    pub variant: u32,
-    pub ks: [f32; 3],
     pub _pad0: f32,
 }
 
@@ -67,13 +65,10 @@ pub struct LightIncidence {
 /// Compute kernels appended to the shading library.
 pub const KERNELS_WGSL: &str = r#"
 struct BrdfCase {
+    mat: GpuMaterial,
     wo: vec3<f32>,
-    shininess: f32,
+    back: u32,
     wi: vec3<f32>,
-    model: u32,
-    kd: vec3<f32>,
-    variant: u32,
-    ks: vec3<f32>,
     _pad0: f32,
 }
 
@@ -95,12 +90,10 @@ fn eval_brdf(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let c = brdf_cases[i];
-    var m: GpuMaterial;
-    m.model = c.model;
-    m.variant = c.variant;
-    m.shininess = c.shininess;
-    m.kd = c.kd;
-    m.ks = c.ks;
+    var m = c.mat;
+    if c.back != 0u {
+        m = material_seen_from_back(m);
+    }
     brdf_out[i] = vec4<f32>(material_eval(m, c.wo, c.wi), 0.0);
 }
 
@@ -122,13 +115,10 @@ pub fn test_structs() -> Vec<HostLayout> {
             wgsl_name: "BrdfCase",
             size: size_of::<BrdfCase>(),
             fields: vec![
+                ("mat", offset_of!(BrdfCase, mat)),
                 ("wo", offset_of!(BrdfCase, wo)),
-                ("shininess", offset_of!(BrdfCase, shininess)),
+                ("back", offset_of!(BrdfCase, back)),
                 ("wi", offset_of!(BrdfCase, wi)),
-                ("model", offset_of!(BrdfCase, model)),
-                ("kd", offset_of!(BrdfCase, kd)),
-                ("variant", offset_of!(BrdfCase, variant)),
-                ("ks", offset_of!(BrdfCase, ks)),
                 ("_pad0", offset_of!(BrdfCase, _pad0)),
             ],
         },

@@ -393,6 +393,22 @@ impl MetallicRoughness {
     }
 }
 
+impl MetallicRoughness {
+    /// Nodes (μ, roughness) per axis of the Kulla–Conty tables `eval` uses.
+    pub const ALBEDO_TABLE_SIZE: [usize; 2] = [TABLE_MU, TABLE_R];
+
+    /// The Kulla–Conty tables exactly as `eval` reads them, for GPU twins:
+    /// `[a, b, a_avg, b_avg]`. `a` and `b` hold `TABLE_R` rows of `TABLE_MU`
+    /// nodes (index `ir · TABLE_MU + im`) at x = √μ = im/(TABLE_MU − 1) and
+    /// y = √roughness = ir/(TABLE_R − 1), interpolated bilinearly in (x, y);
+    /// `a_avg` and `b_avg` hold one cosine average per row, interpolated
+    /// linearly in y.
+    pub fn albedo_tables() -> [&'static [f32]; 4] {
+        let t = albedo_table();
+        [&t.a, &t.b, &t.a_avg, &t.b_avg]
+    }
+}
+
 fn mean(c: Rgb) -> f32 {
     (c.x + c.y + c.z) / 3.0
 }
