@@ -1,7 +1,8 @@
 //! penumbra's real-time pipeline on the GPU (wgpu): a headless renderer
 //! that shades every pixel with the sum over the scene's abstract lights
-//! (point, directional, spot) of f · E⊥ · cos θ, with WGSL twins of the Rust
-//! BRDFs and lights: without shadows the model of the CPU `local`
+//! (point, directional, spot, and area lights' far fields) of f · E⊥ ·
+//! cos θ, with WGSL twins of every Rust BSDF's `eval` and of the lights:
+//! without shadows the model of the CPU `local`
 //! integrator; with shadow maps, planar projected shadows or stencil shadow
 //! volumes ([`ShadowMode`]) the hard shadows of the CPU `direct` integrator.
 //! A depth prepass feeds tiled light culling, so scenes with thousands of
