@@ -229,14 +229,15 @@ impl LightCulling {
         }))
     }
 
-    /// Records the culling pass (nothing when culling is off).
+    /// Records the culling pass, timed as `light culling` (nothing when
+    /// culling is off).
     pub fn record(
         &self,
         device: &wgpu::Device,
         encoder: &mut wgpu::CommandEncoder,
         frame: &CullingFrame,
         depth: &wgpu::TextureView,
-        timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
+        timer: &crate::timing::GpuTimer,
     ) {
         if frame.uniform.enabled == 0 {
             return;
@@ -256,7 +257,7 @@ impl LightCulling {
         });
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("light culling"),
-            timestamp_writes: timestamps,
+            timestamp_writes: timer.compute_pass("light culling"),
         });
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &bind_group, &[]);

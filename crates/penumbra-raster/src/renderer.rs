@@ -716,13 +716,8 @@ impl ForwardRenderer {
             gpu.draw_all(&mut pass, false, 0);
         }
         if !has_stencil {
-            self.culling.record(
-                device,
-                &mut encoder,
-                &culling,
-                &targets.depth_view,
-                timer.compute_pass("light culling"),
-            );
+            self.culling
+                .record(device, &mut encoder, &culling, &targets.depth_view, &timer);
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("forward"),
                 color_attachments: &[Some(targets.colour(clear, true))],

@@ -73,6 +73,10 @@ pub struct BenchArgs {
     /// Raster: samples per pixel (1 or 4).
     #[arg(long, default_value_t = 1)]
     pub msaa: u32,
+    /// Raster: shade every pixel with every light (no tiled light culling),
+    /// the baseline culling is measured against.
+    #[arg(long)]
+    pub no_light_culling: bool,
 }
 
 /// A scene of `meshes` in grey, lit by a sun, framed by the camera.
@@ -211,6 +215,7 @@ fn run_raster(args: &BenchArgs) -> Result<()> {
         options: penumbra_raster::RasterOptions {
             msaa: args.msaa,
             shadows: shadow_mode(args.shadows),
+            light_culling: !args.no_light_culling,
             ..Default::default()
         },
         json: args.json,
