@@ -107,7 +107,11 @@ impl LightCulling {
             layout: Some(&pipeline_layout),
             module: &module,
             entry_point: Some("cull"),
-            compilation_options: Default::default(),
+            // The pass initialises its workgroup memory itself.
+            compilation_options: wgpu::PipelineCompilationOptions {
+                zero_initialize_workgroup_memory: false,
+                ..Default::default()
+            },
             cache: None,
         });
         Self { pipeline, layout }

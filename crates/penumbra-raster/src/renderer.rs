@@ -31,6 +31,8 @@ use glam::Vec3;
 use penumbra_image::Image;
 use penumbra_scene::Scene;
 use penumbra_scene::camera::Camera;
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
 const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
@@ -123,16 +125,116 @@ pub struct RasterOutput {
     pub culling: Option<CullingStats>,
 }
 
+/// One vertex buffer of `vec3<f32>` at `location` (0 positions, 1 normals).
+fn vec3_buffer(location: u32) -> wgpu::VertexBufferLayout<'static> {
+    wgpu::VertexBufferLayout {
+        array_stride: 12,
+        step_mode: wgpu::VertexStepMode::Vertex,
+        attributes: if location == 0 {
+            &wgpu::vertex_attr_array![0 => Float32x3]
+        } else {
+            &wgpu::vertex_attr_array![1 => Float32x3]
+        },
+    }
+}
+
+fn depth_state(
+    write: bool,
+    compare: wgpu::CompareFunction,
+    stencil: wgpu::StencilState,
+    format: wgpu::TextureFormat,
+) -> wgpu::DepthStencilState {
+    wgpu::DepthStencilState {
+        format,
+        depth_write_enabled: Some(write),
+        depth_compare: Some(compare),
+        stencil,
+        bias: Default::default(),
+    }
+}
+
+/// One render pipeline of the forward module.
+struct PipelineSpec<'a> {
+    label: &'a str,
+    vs: &'a str,
+    fs: Option<&'a str>,
+    buffers: &'a [Option<wgpu::VertexBufferLayout<'a>>],
+    depth: wgpu::DepthStencilState,
+    blend: Option<wgpu::BlendState>,
+    samples: u32,
+    /// Values of the module's `override` constants.
+    constants: &'a [(&'a str, f64)],
+}
+
+fn build_pipeline(
+    device: &wgpu::Device,
+    module: &wgpu::ShaderModule,
+    layout: &wgpu::PipelineLayout,
+    s: PipelineSpec<'_>,
+) -> wgpu::RenderPipeline {
+    let targets = [Some(wgpu::ColorTargetState {
+        format: COLOR_FORMAT,
+        blend: s.blend,
+        write_mask: wgpu::ColorWrites::ALL,
+    })];
+    let options = wgpu::PipelineCompilationOptions {
+        constants: s.constants,
+        ..Default::default()
+    };
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(s.label),
+        layout: Some(layout),
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some(s.vs),
+            compilation_options: options.clone(),
+            buffers: s.buffers,
+        },
+        primitive: wgpu::PrimitiveState {
+            topology: wgpu::PrimitiveTopology::TriangleList,
+            front_face: wgpu::FrontFace::Ccw,
+            cull_mode: None,
+            ..Default::default()
+        },
+        depth_stencil: Some(s.depth),
+        multisample: wgpu::MultisampleState {
+            count: s.samples,
+            ..Default::default()
+        },
+        fragment: s.fs.map(|fs| wgpu::FragmentState {
+            module,
+            entry_point: Some(fs),
+            compilation_options: options,
+            targets: &targets,
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
+/// The shading pipelines specialised to the material models of a scene
+/// (the `MATERIAL_MODELS` mask).
+#[derive(Debug)]
+struct ShadingPipelines {
+    forward: wgpu::RenderPipeline,
+    light: wgpu::RenderPipeline,
+}
+
 /// The raster pipelines for one set of options.
 #[derive(Debug)]
 pub struct ForwardRenderer {
     layout: wgpu::BindGroupLayout,
     params_layout: wgpu::BindGroupLayout,
     depth_pipeline: wgpu::RenderPipeline,
-    forward_pipeline: wgpu::RenderPipeline,
     base_pipeline: wgpu::RenderPipeline,
-    light_pipeline: wgpu::RenderPipeline,
     shadow_pipeline: wgpu::RenderPipeline,
+    /// The forward module and layout, for the specialised pipelines.
+    module: wgpu::ShaderModule,
+    pipeline_layout: wgpu::PipelineLayout,
+    light_stencil: wgpu::StencilState,
+    /// Forward and one-light pipelines by material-model mask, made on
+    /// first use.
+    shading: Mutex<HashMap<u32, Arc<ShadingPipelines>>>,
     shadow_layout: wgpu::BindGroupLayout,
     shadow_sampler: wgpu::Sampler,
     culling: LightCulling,
@@ -299,76 +401,17 @@ impl ForwardRenderer {
             bind_group_layouts: &[Some(&layout), Some(&params_layout)],
             immediate_size: 0,
         });
-        let vec3_buffer = |location| wgpu::VertexBufferLayout {
-            array_stride: 12,
-            step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: if location == 0 {
-                &wgpu::vertex_attr_array![0 => Float32x3]
-            } else {
-                &wgpu::vertex_attr_array![1 => Float32x3]
-            },
-        };
         let position_only = [Some(vec3_buffer(0))];
-        let with_normals = [Some(vec3_buffer(0)), Some(vec3_buffer(1))];
-        struct Stage<'a> {
-            label: &'a str,
-            vs: &'a str,
-            fs: Option<&'a str>,
-            buffers: &'a [Option<wgpu::VertexBufferLayout<'a>>],
-            depth: wgpu::DepthStencilState,
-            blend: Option<wgpu::BlendState>,
-        }
-        let build = |s: Stage<'_>, samples: u32, layout: &wgpu::PipelineLayout| {
-            let targets = [Some(wgpu::ColorTargetState {
-                format: COLOR_FORMAT,
-                blend: s.blend,
-                write_mask: wgpu::ColorWrites::ALL,
-            })];
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(s.label),
-                layout: Some(layout),
-                vertex: wgpu::VertexState {
-                    module: &module,
-                    entry_point: Some(s.vs),
-                    compilation_options: Default::default(),
-                    buffers: s.buffers,
-                },
-                primitive: wgpu::PrimitiveState {
-                    topology: wgpu::PrimitiveTopology::TriangleList,
-                    front_face: wgpu::FrontFace::Ccw,
-                    cull_mode: None,
-                    ..Default::default()
-                },
-                depth_stencil: Some(s.depth),
-                multisample: wgpu::MultisampleState {
-                    count: samples,
-                    ..Default::default()
-                },
-                fragment: s.fs.map(|fs| wgpu::FragmentState {
-                    module: &module,
-                    entry_point: Some(fs),
-                    compilation_options: Default::default(),
-                    targets: &targets,
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
-        };
-        let depth_state =
-            |write: bool, compare, stencil: wgpu::StencilState, format| wgpu::DepthStencilState {
-                format,
-                depth_write_enabled: Some(write),
-                depth_compare: Some(compare),
-                stencil,
-                bias: Default::default(),
-            };
         let greater_equal = wgpu::CompareFunction::GreaterEqual;
         // Shadow maps: depth only, no culling (open meshes and single quads
         // cast too); reversed depth, so the bias is negative: it moves the
         // stored depth away from the light by `slope_bias` times the
         // triangle's depth slope, plus a few units of the format's precision.
-        let shadow_pipeline = build(
-            Stage {
+        let shadow_pipeline = build_pipeline(
+            device,
+            &module,
+            &shadow_pipeline_layout,
+            PipelineSpec {
                 label: "shadow map",
                 vs: "vs_shadow",
                 fs: None,
@@ -387,12 +430,15 @@ impl ForwardRenderer {
                     )
                 },
                 blend: None,
+                samples: 1,
+                constants: &[],
             },
-            1,
-            &shadow_pipeline_layout,
         );
-        let depth_pipeline = build(
-            Stage {
+        let depth_pipeline = build_pipeline(
+            device,
+            &module,
+            &pipeline_layout,
+            PipelineSpec {
                 label: "depth prepass",
                 vs: "vs_depth",
                 fs: None,
@@ -404,26 +450,26 @@ impl ForwardRenderer {
                     depth_format,
                 ),
                 blend: None,
+                samples: msaa,
+                constants: &[],
             },
-            msaa,
-            &pipeline_layout,
         );
-        let shading = |label, fs, stencil, blend| {
-            build(
-                Stage {
-                    label,
-                    vs: "vs_main",
-                    fs: Some(fs),
-                    buffers: &with_normals,
-                    depth: depth_state(false, greater_equal, stencil, depth_format),
-                    blend,
-                },
-                msaa,
-                &pipeline_layout,
-            )
-        };
-        let forward_pipeline = shading("forward", "fs_forward", Default::default(), None);
-        let base_pipeline = shading("base", "fs_base", Default::default(), None);
+        // Emission and ambient light only: no material model needed.
+        let base_pipeline = build_pipeline(
+            device,
+            &module,
+            &pipeline_layout,
+            PipelineSpec {
+                label: "base",
+                vs: "vs_main",
+                fs: Some("fs_base"),
+                buffers: &[Some(vec3_buffer(0)), Some(vec3_buffer(1))],
+                depth: depth_state(false, greater_equal, Default::default(), depth_format),
+                blend: None,
+                samples: msaa,
+                constants: &[("MATERIAL_MODELS", 0.0), ("SHADOW_MAPS", 0.0)],
+            },
+        );
         // One light, added where the stencil is 0 (shadow volumes: count 0;
         // planar shadows: top bit clear).
         let read_mask = if options.shadows == ShadowMode::Planar {
@@ -437,7 +483,7 @@ impl ForwardRenderer {
             depth_fail_op: wgpu::StencilOperation::Keep,
             pass_op: wgpu::StencilOperation::Keep,
         };
-        let stencil = if options.shadows.uses_stencil() {
+        let light_stencil = if options.shadows.uses_stencil() {
             wgpu::StencilState {
                 front: lit_where_zero,
                 back: lit_where_zero,
@@ -447,20 +493,6 @@ impl ForwardRenderer {
         } else {
             Default::default()
         };
-        let add = wgpu::BlendComponent {
-            src_factor: wgpu::BlendFactor::One,
-            dst_factor: wgpu::BlendFactor::One,
-            operation: wgpu::BlendOperation::Add,
-        };
-        let light_pipeline = shading(
-            "light",
-            "fs_light",
-            stencil,
-            Some(wgpu::BlendState {
-                color: add,
-                alpha: add,
-            }),
-        );
         let filter = if options.pcf == 1 {
             wgpu::FilterMode::Nearest
         } else {
@@ -481,10 +513,12 @@ impl ForwardRenderer {
             layout,
             params_layout,
             depth_pipeline,
-            forward_pipeline,
             base_pipeline,
-            light_pipeline,
             shadow_pipeline,
+            module,
+            pipeline_layout,
+            light_stencil,
+            shading: Mutex::new(HashMap::new()),
             shadow_layout,
             shadow_sampler,
             culling: LightCulling::new(device, msaa),
@@ -499,6 +533,60 @@ impl ForwardRenderer {
             ),
             options,
         })
+    }
+
+    /// The forward and one-light pipelines for the material models in
+    /// `models` (a `1 << MODEL_*` mask), made once per mask.
+    fn shading_pipelines(&self, device: &wgpu::Device, models: u32) -> Arc<ShadingPipelines> {
+        let mut cache = self.shading.lock().unwrap_or_else(|e| e.into_inner());
+        cache
+            .entry(models)
+            .or_insert_with(|| {
+                let shadow_maps = if self.options.shadows == ShadowMode::Map {
+                    1.0
+                } else {
+                    0.0
+                };
+                let constants = [
+                    ("MATERIAL_MODELS", models as f64),
+                    ("SHADOW_MAPS", shadow_maps),
+                ];
+                let add = wgpu::BlendComponent {
+                    src_factor: wgpu::BlendFactor::One,
+                    dst_factor: wgpu::BlendFactor::One,
+                    operation: wgpu::BlendOperation::Add,
+                };
+                let with_normals = [Some(vec3_buffer(0)), Some(vec3_buffer(1))];
+                let spec = |label, fs, stencil, blend| PipelineSpec {
+                    label,
+                    vs: "vs_main",
+                    fs: Some(fs),
+                    buffers: &with_normals,
+                    depth: depth_state(
+                        false,
+                        wgpu::CompareFunction::GreaterEqual,
+                        stencil,
+                        self.depth_format,
+                    ),
+                    blend,
+                    samples: self.options.msaa,
+                    constants: &constants,
+                };
+                let build = |s| build_pipeline(device, &self.module, &self.pipeline_layout, s);
+                Arc::new(ShadingPipelines {
+                    forward: build(spec("forward", "fs_forward", Default::default(), None)),
+                    light: build(spec(
+                        "light",
+                        "fs_light",
+                        self.light_stencil.clone(),
+                        Some(wgpu::BlendState {
+                            color: add,
+                            alpha: add,
+                        }),
+                    )),
+                })
+            })
+            .clone()
     }
 
     fn targets(&self, device: &wgpu::Device, width: u32, height: u32) -> Targets {
@@ -563,6 +651,7 @@ impl ForwardRenderer {
         }
         let o = self.options;
         let gpu = SceneGpu::upload(device, scene, camera, width, height);
+        let shading = self.shading_pipelines(device, gpu.data.model_mask());
         let mut warnings = gpu.data.warnings.clone();
         let light_count = gpu.light_count;
         let shadow_maps = ShadowMapFrame::new(
@@ -726,7 +815,7 @@ impl ForwardRenderer {
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
-            pass.set_pipeline(&self.forward_pipeline);
+            pass.set_pipeline(&shading.forward);
             pass.set_bind_group(0, &bind_group, &[]);
             pass.set_bind_group(1, &params.bind_group, &[0]);
             gpu.draw_all(&mut pass, true, 0);
@@ -780,7 +869,7 @@ impl ForwardRenderer {
                     occlusion_query_set: None,
                     multiview_mask: None,
                 });
-                pass.set_pipeline(&self.light_pipeline);
+                pass.set_pipeline(&shading.light);
                 pass.set_bind_group(0, &bind_group, &[]);
                 pass.set_bind_group(1, &params.bind_group, &[offset]);
                 pass.set_stencil_reference(0);

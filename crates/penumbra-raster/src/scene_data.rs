@@ -34,6 +34,12 @@ pub struct SceneData {
 }
 
 impl SceneData {
+    /// The material models present, as the `1 << MODEL_*` mask the shaders'
+    /// `MATERIAL_MODELS` constant takes.
+    pub fn model_mask(&self) -> u32 {
+        self.materials.iter().fold(0, |m, g| m | (1 << g.model))
+    }
+
     pub fn from_scene(scene: &Scene) -> Self {
         let mut warnings = Vec::new();
         let mut materials = Vec::with_capacity(scene.materials.len());

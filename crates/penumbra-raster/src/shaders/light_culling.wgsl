@@ -1,4 +1,5 @@
-// Tiled light culling (Forward+): one 16 x 16 workgroup per screen tile.
+// Tiled light culling (Forward+): one workgroup of 8 x 8 invocations per
+// 16 x 16-pixel screen tile (each invocation reads 2 x 2 pixels).
 // The tile's depth bounds come from the depth prepass (every sample of
 // every pixel that holds geometry; reversed depth, 0 = nothing); a light
 // whose range sphere (view space) lies outside one of the tile's four side
@@ -40,7 +41,10 @@ fn plane_through(a: vec3<f32>, b: vec3<f32>, c: vec3<f32>, inside: vec3<f32>) ->
     return vec4<f32>(n, -dot(n, a));
 }
 
-@compute @workgroup_size(16, 16)
+// Invocations per workgroup.
+const GROUP: u32 = 64u;
+
+@compute @workgroup_size(8, 8)
 fn cull(
     @builtin(workgroup_id) tile: vec3<u32>,
     @builtin(local_invocation_id) local: vec3<u32>,
@@ -50,21 +54,27 @@ fn cull(
         atomicStore(&depth_lo, 0x7f800000u);
         atomicStore(&depth_hi, 0u);
     }
-    for (var w = li; w < MASK_WORDS; w += 256u) {
+    for (var w = li; w < MASK_WORDS; w += GROUP) {
         atomicStore(&mask[w], 0u);
     }
     workgroupBarrier();
-    let px = tile.xy * TILE + local.xy;
-    if px.x < culling.width && px.y < culling.height {
-        for (var s = 0u; s < culling.samples; s++) {
-            let d = LOAD_DEPTH;
-            // Positive floats order like their bit patterns.
-            if d > 0.0 {
-                atomicMin(&depth_lo, bitcast<u32>(d));
-                atomicMax(&depth_hi, bitcast<u32>(d));
+    // Positive floats order like their bit patterns.
+    var lo = 0x7f800000u;
+    var hi = 0u;
+    for (var k = 0u; k < 4u; k++) {
+        let px = tile.xy * TILE + 2u * local.xy + vec2<u32>(k & 1u, k >> 1u);
+        if px.x < culling.width && px.y < culling.height {
+            for (var s = 0u; s < culling.samples; s++) {
+                let d = LOAD_DEPTH;
+                if d > 0.0 {
+                    lo = min(lo, bitcast<u32>(d));
+                    hi = max(hi, bitcast<u32>(d));
+                }
             }
         }
     }
+    atomicMin(&depth_lo, lo);
+    atomicMax(&depth_hi, hi);
     workgroupBarrier();
     if li == 0u {
         bounds = vec2<u32>(atomicLoad(&depth_lo), atomicLoad(&depth_hi));
@@ -99,7 +109,7 @@ fn cull(
     let z_near = unproject(vec3<f32>(cx, cy, bitcast<f32>(b.y))).z;
     let z_far = unproject(vec3<f32>(cx, cy, bitcast<f32>(b.x))).z;
     let z_pad = 1e-4 * max(abs(z_near), abs(z_far));
-    for (var i = li; i < culling.light_count; i += 256u) {
+    for (var i = li; i < culling.light_count; i += GROUP) {
         let sphere = spheres[i];
         var keep = sphere.w < 0.0;
         if !keep {
@@ -135,7 +145,7 @@ fn cull(
     if li == 0u {
         tile_lights[list] = n;
     }
-    for (var w = li; w < words; w += 256u) {
+    for (var w = li; w < words; w += GROUP) {
         var bits = atomicLoad(&mask[w]);
         var at = list + 1u + word_start[w];
         while bits != 0u {

@@ -20,6 +20,16 @@ const MODEL_METALLIC_ROUGHNESS: u32 = 4u;
 // Mirror, Conductor, Dielectric: delta lobes only, eval ≡ 0.
 const MODEL_DELTA: u32 = 5u;
 
+// Bit mask (1 << MODEL_*) of the models material_eval handles: a pipeline
+// that shades a scene sets it to the models the scene uses, so the shader
+// compiler drops the code of the others (on a CPU rasteriser such as
+// lavapipe, unused GGX code slowed a Lambert-only forward pass by half).
+override MATERIAL_MODELS: u32 = 0xffffffffu;
+
+fn model_enabled(model: u32) -> bool {
+    return (MATERIAL_MODELS & (1u << model)) != 0u;
+}
+
 // GpuMaterial::variant of a rough conductor.
 const FRESNEL_EXACT: u32 = 0u;
 const FRESNEL_SCHLICK: u32 = 1u;
@@ -224,26 +234,23 @@ fn phong_eval(kd: vec3<f32>, ks: vec3<f32>, shininess: f32, variant: u32, wo: ve
 // (Rust: Bsdf::eval; wi below the surface reaches the transmission lobes).
 // A surface seen from its back must first go through material_seen_from_back.
 fn material_eval(mat: GpuMaterial, wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
-    switch mat.model {
-        case MODEL_LAMBERT: {
-            return lambert_eval(mat.kd, wo, wi);
-        }
-        case MODEL_PHONG_BLINN: {
-            return phong_eval(mat.kd, mat.ks, mat.shininess, mat.variant, wo, wi);
-        }
-        case MODEL_ROUGH_CONDUCTOR: {
-            return rough_conductor_eval(mat, wo, wi);
-        }
-        case MODEL_ROUGH_DIELECTRIC: {
-            return rough_dielectric_eval(mat, wo, wi);
-        }
-        case MODEL_METALLIC_ROUGHNESS: {
-            return metallic_roughness_eval(mat, wo, wi);
-        }
-        default: {
-            return vec3<f32>(0.0);
-        }
+    if model_enabled(MODEL_LAMBERT) && mat.model == MODEL_LAMBERT {
+        return lambert_eval(mat.kd, wo, wi);
     }
+    if model_enabled(MODEL_PHONG_BLINN) && mat.model == MODEL_PHONG_BLINN {
+        return phong_eval(mat.kd, mat.ks, mat.shininess, mat.variant, wo, wi);
+    }
+    if model_enabled(MODEL_ROUGH_CONDUCTOR) && mat.model == MODEL_ROUGH_CONDUCTOR {
+        return rough_conductor_eval(mat, wo, wi);
+    }
+    if model_enabled(MODEL_ROUGH_DIELECTRIC) && mat.model == MODEL_ROUGH_DIELECTRIC {
+        return rough_dielectric_eval(mat, wo, wi);
+    }
+    if model_enabled(MODEL_METALLIC_ROUGHNESS) && mat.model == MODEL_METALLIC_ROUGHNESS {
+        return metallic_roughness_eval(mat, wo, wi);
+    }
+    // The delta models (and models left out of MATERIAL_MODELS).
+    return vec3<f32>(0.0);
 }
 
 // BsdfFlags::transmission of the models with a rough transmission lobe
