@@ -138,6 +138,17 @@ enum Side {
     BackOnHost,
 }
 
+impl Side {
+    /// The BSDF as Rust evaluates it from this side.
+    fn apply(self, bsdf: Bsdf) -> Bsdf {
+        if self == Side::Front {
+            bsdf
+        } else {
+            bsdf.seen_from_back()
+        }
+    }
+}
+
 /// One BRDF case: the model Rust evaluates (its back already applied) and
 /// what the GPU gets.
 struct Case {
@@ -414,11 +425,7 @@ fn wgsl_rough_dielectric_matches_rust() {
         let sd = side(&mut rng);
         backs += (sd != Side::Front) as usize;
         let bsdf = Bsdf::RoughDielectric(rd);
-        let seen = if sd == Side::Front {
-            bsdf
-        } else {
-            bsdf.seen_from_back()
-        };
+        let seen = sd.apply(bsdf);
         let (wo, wi) = directions(&mut rng, &seen, i);
         cases.push(case(bsdf, sd, wo, wi));
     }
@@ -485,11 +492,7 @@ fn wgsl_metallic_roughness_matches_rust() {
             backs += 1;
             transmissive_backs += bsdf.flags().transmission as usize;
         }
-        let seen = if sd == Side::Front {
-            bsdf
-        } else {
-            bsdf.seen_from_back()
-        };
+        let seen = sd.apply(bsdf);
         let (wo, wi) = directions(&mut rng, &seen, i);
         cases.push(case(bsdf, sd, wo, wi));
     }
@@ -549,11 +552,7 @@ fn wgsl_delta_models_are_zero() {
             }
         };
         let sd = side(&mut rng);
-        let seen = if sd == Side::Front {
-            bsdf
-        } else {
-            bsdf.seen_from_back()
-        };
+        let seen = sd.apply(bsdf);
         // Anywhere, and exactly along the delta lobes.
         let mut wo = unit(&mut rng);
         let mut wi = unit(&mut rng);
