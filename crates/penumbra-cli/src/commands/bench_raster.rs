@@ -207,7 +207,12 @@ pub fn run(bench: &RasterBench, scene: &Scene) -> Result<()> {
         if bench.json {
             let fields: String = kinds
                 .iter()
-                .map(|(k, n, ms)| format!(",\"{k}\":{{\"passes\":{n},\"ms\":{ms:.4}}}"))
+                .map(|(k, n, ms)| {
+                    format!(
+                        ",\"{k}\":{{\"passes\":{n},\"ms\":{ms:.4},\"ms_each\":{:.4}}}",
+                        ms / *n as f64
+                    )
+                })
                 .collect();
             let tiles = culling.as_ref().map_or(String::new(), |c| {
                 format!(
@@ -225,8 +230,12 @@ pub fn run(bench: &RasterBench, scene: &Scene) -> Result<()> {
             });
             println!("{lights} light(s): frame {frame:.2} ms (wall, submit to idle){tiles}");
             for (kind, n, ms) in kinds {
-                let label = if n > 1 { format!("{kind} ×{n}") } else { kind };
-                println!("  {label:<28} {ms:>10.3} ms");
+                if n > 1 {
+                    let label = format!("{kind} ×{n}");
+                    println!("  {label:<28} {ms:>10.3} ms ({:.3} ms each)", ms / n as f64);
+                } else {
+                    println!("  {kind:<28} {ms:>10.3} ms");
+                }
             }
         }
     }
