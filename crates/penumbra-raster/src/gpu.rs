@@ -81,6 +81,12 @@ impl GpuLight {
         out
     }
 
+    /// `position.xyz`: the light's position (w = 1), or the direction
+    /// towards it (w = 0).
+    pub fn xyz(&self) -> Vec3 {
+        Vec3::new(self.position[0], self.position[1], self.position[2])
+    }
+
     /// The GPU form of an area light's far field: a point light (w = 1)
     /// whose intensity follows the emitter's lobe.
     pub fn from_far_field(f: &FarField) -> Self {
@@ -148,13 +154,12 @@ pub fn phong_variant_index(v: PhongVariant) -> u32 {
 }
 
 impl GpuMaterial {
-    /// The BSDF the raster path evaluates for `bsdf`, and whether it is
-    /// exact (the WGSL `material_eval` twin equals `Bsdf::eval`). Every model
-    /// has a twin: Lambert, Phong–Blinn, the GGX rough conductor, rough
+    /// The BSDF the raster path evaluates for `bsdf`: its WGSL
+    /// `material_eval` twin equals `Bsdf::eval`. Every model has a twin: Lambert, Phong–Blinn, the GGX rough conductor, rough
     /// dielectric and metallic–roughness, and the delta models (Mirror,
     /// Conductor, Dielectric), whose `eval` is 0. A surface seen from its back
     /// goes through WGSL `material_seen_from_back` (Rust `seen_from_back`).
-    pub fn from_bsdf(bsdf: &Bsdf, emission: Vec3, double_sided: bool) -> (Self, bool) {
+    pub fn from_bsdf(bsdf: &Bsdf, emission: Vec3, double_sided: bool) -> Self {
         let mut m = Self {
             emission: emission.to_array(),
             double_sided: double_sided as u32,
@@ -203,7 +208,7 @@ impl GpuMaterial {
                 m.model = MODEL_DELTA;
             }
         }
-        (m, true)
+        m
     }
 }
 
@@ -515,14 +520,13 @@ mod tests {
     #[test]
     fn materials_keep_the_rust_coefficients() {
         let rho = Vec3::new(0.8, 0.4, 0.2);
-        let (m, exact) =
-            GpuMaterial::from_bsdf(&Bsdf::Lambert(Lambert::new(rho)), Vec3::ZERO, true);
-        assert!(exact && m.model == MODEL_LAMBERT && m.double_sided == 1);
+        let m = GpuMaterial::from_bsdf(&Bsdf::Lambert(Lambert::new(rho)), Vec3::ZERO, true);
+        assert!(m.model == MODEL_LAMBERT && m.double_sided == 1);
         assert_eq!(Vec3::from(m.kd), Lambert::new(rho).kd());
 
         let p = PhongBlinn::from_albedo(rho, Vec3::splat(0.3), 17.0, PhongVariant::HalfwaySquared);
-        let (m, exact) = GpuMaterial::from_bsdf(&Bsdf::PhongBlinn(p), Vec3::X, false);
-        assert!(exact && m.model == MODEL_PHONG_BLINN && m.double_sided == 0);
+        let m = GpuMaterial::from_bsdf(&Bsdf::PhongBlinn(p), Vec3::X, false);
+        assert!(m.model == MODEL_PHONG_BLINN && m.double_sided == 0);
         assert_eq!((m.variant, m.shininess), (2, 17.0));
         assert_eq!((Vec3::from(m.kd), Vec3::from(m.ks)), (p.kd, p.ks));
         assert_eq!(Vec3::from(m.emission), Vec3::X);
@@ -532,8 +536,8 @@ mod tests {
         mr.transmission = 0.25;
         mr.specular = -1.0;
         mr.specular_color = Vec3::splat(2.0);
-        let (m, exact) = GpuMaterial::from_bsdf(&Bsdf::MetallicRoughness(mr), Vec3::ZERO, true);
-        assert!(exact && m.model == MODEL_METALLIC_ROUGHNESS);
+        let m = GpuMaterial::from_bsdf(&Bsdf::MetallicRoughness(mr), Vec3::ZERO, true);
+        assert!(m.model == MODEL_METALLIC_ROUGHNESS);
         assert_eq!(Vec3::from(m.base_color), rho);
         assert_eq!((m.metallic, m.roughness, m.alpha), (1.0, 0.5, 0.25));
         assert_eq!((m.ior, m.transmission, m.specular), (1.5, 0.25, 0.0));
@@ -542,8 +546,8 @@ mod tests {
         // Rough conductor and dielectric: α clamped like Ggx::new.
         let mut rc = RoughConductor::new(Vec3::new(0.2, 0.9, 1.1), Vec3::new(3.9, 2.4, 1.8), 0.0);
         rc.fresnel = FresnelModel::Schlick;
-        let (m, exact) = GpuMaterial::from_bsdf(&Bsdf::RoughConductor(rc), Vec3::ZERO, true);
-        assert!(exact && m.model == MODEL_ROUGH_CONDUCTOR && m.variant == FRESNEL_SCHLICK);
+        let m = GpuMaterial::from_bsdf(&Bsdf::RoughConductor(rc), Vec3::ZERO, true);
+        assert!(m.model == MODEL_ROUGH_CONDUCTOR && m.variant == FRESNEL_SCHLICK);
         assert_eq!(
             (Vec3::from(m.conductor_eta), Vec3::from(m.conductor_k)),
             (rc.eta, rc.k)
@@ -553,18 +557,18 @@ mod tests {
             tint: rho,
             ..RoughDielectric::new(1.33, 0.2)
         };
-        let (m, exact) = GpuMaterial::from_bsdf(&Bsdf::RoughDielectric(rd), Vec3::ZERO, true);
-        assert!(exact && m.model == MODEL_ROUGH_DIELECTRIC);
+        let m = GpuMaterial::from_bsdf(&Bsdf::RoughDielectric(rd), Vec3::ZERO, true);
+        assert!(m.model == MODEL_ROUGH_DIELECTRIC);
         assert_eq!((m.ior, m.alpha, Vec3::from(m.base_color)), (1.33, 0.2, rho));
 
-        // Delta models: eval ≡ 0, exact.
+        // Delta models: eval ≡ 0.
         for b in [
             Bsdf::Mirror(Mirror::new(rho)),
             Bsdf::Conductor(Conductor::new(rc.eta, rc.k, FresnelModel::Exact)),
             Bsdf::Dielectric(Dielectric::new(1.5, rho, FresnelModel::Exact)),
         ] {
-            let (m, exact) = GpuMaterial::from_bsdf(&b, Vec3::ZERO, true);
-            assert!(exact && m.model == MODEL_DELTA, "{b:?}");
+            let m = GpuMaterial::from_bsdf(&b, Vec3::ZERO, true);
+            assert!(m.model == MODEL_DELTA, "{b:?}");
         }
     }
 

@@ -10,7 +10,7 @@
 use crate::gpu::{GpuCulling, GpuLight, LIGHT_DIRECTIONAL, TILE_OVERFLOW};
 use crate::scene_gpu::{buffer_init, storage_entry, uniform_entry, whole};
 use crate::shaders::light_culling_source;
-use glam::{Mat4, Vec3};
+use glam::Mat4;
 
 /// Tile edge in pixels (WGSL `TILE`).
 pub const TILE: u32 = 16;
@@ -64,8 +64,7 @@ pub fn light_spheres(view: Mat4, lights: &[GpuLight]) -> Vec<[f32; 4]> {
             if l.kind == LIGHT_DIRECTIONAL || l.range <= 0.0 {
                 [0.0, 0.0, 0.0, -1.0]
             } else {
-                let c =
-                    view.transform_point3(Vec3::new(l.position[0], l.position[1], l.position[2]));
+                let c = view.transform_point3(l.xyz());
                 [c.x, c.y, c.z, l.range]
             }
         })
@@ -273,6 +272,7 @@ impl LightCulling {
 mod tests {
     use super::*;
     use crate::gpu::{LIGHT_POINT, LIGHT_SPOT};
+    use glam::Vec3;
 
     #[test]
     fn spheres_are_in_view_space_and_unbounded_lights_are_marked() {

@@ -25,22 +25,27 @@ pub struct Receiver {
     pub occluders: Vec<usize>,
 }
 
-fn world_vertices<'a>(scene: &'a Scene, inst: &'a Instance) -> impl Iterator<Item = Vec3> + 'a {
+fn world_vertices(scene: &Scene, inst: &Instance) -> Vec<Vec3> {
     scene.meshes[inst.mesh]
         .positions
         .iter()
         .map(|p| inst.transform.transform_point3(*p))
+        .collect()
+}
+
+/// Whether every point lies within `tol` of `plane`.
+fn on_plane(points: &[Vec3], plane: Vec4, tol: f32) -> bool {
+    points.iter().all(|p| plane.dot(p.extend(1.0)).abs() <= tol)
 }
 
 /// The world plane of an instance whose vertices all lie on one plane
 /// (within [`PLANE_TOLERANCE`] of its diagonal), from its largest
 /// triangle's normal; `None` if it is not planar or has no area.
 pub fn instance_plane(scene: &Scene, inst: &Instance) -> Option<Vec4> {
-    let mesh = &scene.meshes[inst.mesh];
-    let world = |i: u32| inst.transform.transform_point3(mesh.positions[i as usize]);
+    let world = world_vertices(scene, inst);
     let mut best = (0.0f32, Vec3::ZERO, Vec3::ZERO);
-    for t in &mesh.indices {
-        let (a, b, c) = (world(t[0]), world(t[1]), world(t[2]));
+    for t in &scene.meshes[inst.mesh].indices {
+        let [a, b, c] = t.map(|i| world[i as usize]);
         let n = (b - a).cross(c - a);
         let area2 = n.length_squared();
         if area2 > best.0 {
@@ -52,18 +57,16 @@ pub fn instance_plane(scene: &Scene, inst: &Instance) -> Option<Vec4> {
     }
     let n = best.1.normalize();
     let plane = n.extend(-n.dot(best.2));
-    let (lo, hi) = world_vertices(scene, inst).fold(
+    let (lo, hi) = world.iter().fold(
         (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
-        |(lo, hi), p| (lo.min(p), hi.max(p)),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
     );
-    let tol = PLANE_TOLERANCE * (hi - lo).length();
-    world_vertices(scene, inst)
-        .all(|p| plane.dot(p.extend(1.0)).abs() <= tol)
-        .then_some(plane)
+    on_plane(&world, plane, PLANE_TOLERANCE * (hi - lo).length()).then_some(plane)
 }
 
-/// The frame's receivers and warnings about marks that could not be used.
-pub fn planar_receivers(scene: &Scene) -> (Vec<Receiver>, Vec<String>) {
+/// The frame's receivers and warnings about marks that could not be used;
+/// `bounds` are the scene's (coplanarity is judged relative to them).
+pub fn planar_receivers(scene: &Scene, bounds: (Vec3, Vec3)) -> (Vec<Receiver>, Vec<String>) {
     let mut warnings = Vec::new();
     let marked: Vec<usize> = (0..scene.instances.len())
         .filter(|&i| scene.instances[i].planar_receiver)
@@ -100,17 +103,14 @@ pub fn planar_receivers(scene: &Scene) -> (Vec<Receiver>, Vec<String>) {
             }
         }
     }
-    let tol = scene
-        .bounds()
-        .map_or(1e-6, |(lo, hi)| PLANE_TOLERANCE * (hi - lo).length());
+    let tol = PLANE_TOLERANCE * (bounds.1 - bounds.0).length();
     let receivers = chosen
         .into_iter()
         .map(|(instance, plane)| {
             let occluders = (0..scene.instances.len())
                 .filter(|&j| {
                     j != instance
-                        && !world_vertices(scene, &scene.instances[j])
-                            .all(|p| plane.dot(p.extend(1.0)).abs() <= tol)
+                        && !on_plane(&world_vertices(scene, &scene.instances[j]), plane, tol)
                 })
                 .collect();
             Receiver {
@@ -166,7 +166,7 @@ mod tests {
         );
         let tilted = instance_plane(&s, &s.instances[1]).unwrap();
         assert!((tilted.truncate().dot(Vec3::new(0.0, 1.0, 1.0).normalize())).abs() > 0.999);
-        let (r, w) = planar_receivers(&s);
+        let (r, w) = planar_receivers(&s, s.bounds().unwrap());
         assert!(w.is_empty(), "{w:?}");
         assert_eq!(r.len(), 1);
         assert_eq!(r[0].instance, 0);
@@ -181,7 +181,7 @@ mod tests {
         let mut s = scene();
         s.instances[1].planar_receiver = true;
         s.instances[2].planar_receiver = true;
-        let (r, w) = planar_receivers(&s);
+        let (r, w) = planar_receivers(&s, s.bounds().unwrap());
         assert_eq!(r.iter().map(|r| r.instance).collect::<Vec<_>>(), [1]);
         assert_eq!(r[0].occluders, [0, 2, 3]);
         assert_eq!(w.len(), 1);

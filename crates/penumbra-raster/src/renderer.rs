@@ -15,7 +15,7 @@ use crate::context::{GpuContext, GpuError};
 use crate::gpu::GpuPassParams;
 use crate::light_culling::{CullingStats, LightCulling, MAX_CULLED_LIGHTS};
 use crate::material_tables::{KULLA_CONTY_BINDING, kulla_conty_table};
-use crate::planar_shadow::PlanarShadows;
+use crate::planar_shadow::{PlanarFrame, PlanarShadows};
 use crate::receivers::planar_receivers;
 use crate::scene_gpu::{
     PassParams, SceneGpu, buffer_init, params_layout, storage_entry, uniform_entry, whole,
@@ -25,7 +25,7 @@ use crate::shadow_map::{
     DEFAULT_NORMAL_OFFSET, DEFAULT_SHADOW_MAP_SIZE, DEFAULT_SLOPE_BIAS, SHADOW_CONSTANT_BIAS,
     SHADOW_MAP_FORMAT, ShadowMapFrame,
 };
-use crate::shadow_volume::ShadowVolumes;
+use crate::shadow_volume::{ShadowVolumes, VolumeFrame};
 use crate::timing::{GpuTimer, PassTiming};
 use glam::Vec3;
 use penumbra_image::Image;
@@ -244,6 +244,15 @@ pub struct ForwardRenderer {
     /// The metallic–roughness model's Kulla–Conty table (a constant).
     kulla_conty: wgpu::Buffer,
     options: RasterOptions,
+}
+
+/// What the passes of one frame share.
+struct Frame<'a> {
+    gpu: &'a SceneGpu,
+    bind_group: &'a wgpu::BindGroup,
+    params: &'a PassParams,
+    targets: &'a Targets,
+    timer: &'a GpuTimer,
 }
 
 /// The frame's render targets.
@@ -589,6 +598,80 @@ impl ForwardRenderer {
             .clone()
     }
 
+    /// Stencil shadows: the base pass (emission, ambient), then per light
+    /// its stencil pass and its additive pass where the stencil says lit;
+    /// the last colour pass resolves the multisampled target.
+    #[allow(clippy::too_many_arguments)]
+    fn record_stencil_lighting(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &Frame<'_>,
+        shading: &ShadingPipelines,
+        clear: wgpu::LoadOp<wgpu::Color>,
+        per_light: usize,
+        volume_frame: Option<&VolumeFrame>,
+        planar_frame: Option<&PlanarFrame>,
+    ) {
+        let (gpu, bind_group, params, targets, timer) =
+            (f.gpu, f.bind_group, f.params, f.targets, f.timer);
+        let light_count = gpu.light_count();
+        {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("base"),
+                color_attachments: &[Some(targets.colour(clear, light_count == 0))],
+                depth_stencil_attachment: Some(targets.depth_loaded(true)),
+                timestamp_writes: timer.render_pass("base"),
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_pipeline(&self.base_pipeline);
+            pass.set_bind_group(0, bind_group, &[]);
+            pass.set_bind_group(1, &params.bind_group, &[0]);
+            gpu.draw_all(&mut pass, true, 0);
+        }
+        for light in 0..light_count {
+            let slot = light as usize * per_light;
+            let offset = PassParams::offset(slot);
+            if let (Some(v), Some(frame)) = (&self.volumes, volume_frame) {
+                v.record(
+                    encoder,
+                    frame,
+                    &params.bind_group,
+                    offset,
+                    light,
+                    &targets.depth_view,
+                    timer,
+                );
+            }
+            if let (Some(p), Some(frame)) = (&self.planar, planar_frame) {
+                p.record(
+                    encoder,
+                    frame,
+                    gpu,
+                    &params.bind_group,
+                    slot,
+                    light,
+                    &targets.depth_view,
+                    timer,
+                );
+            }
+            let last = light + 1 == light_count;
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("light"),
+                color_attachments: &[Some(targets.colour(wgpu::LoadOp::Load, last))],
+                depth_stencil_attachment: Some(targets.depth_loaded(true)),
+                timestamp_writes: timer.render_pass(&format!("light {light}")),
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_pipeline(&shading.light);
+            pass.set_bind_group(0, bind_group, &[]);
+            pass.set_bind_group(1, &params.bind_group, &[offset]);
+            pass.set_stencil_reference(0);
+            gpu.draw_all(&mut pass, true, 0);
+        }
+    }
+
     fn targets(&self, device: &wgpu::Device, width: u32, height: u32) -> Targets {
         let size = wgpu::Extent3d {
             width,
@@ -653,7 +736,7 @@ impl ForwardRenderer {
         let gpu = SceneGpu::upload(device, scene, camera, width, height);
         let shading = self.shading_pipelines(device, gpu.data.model_mask());
         let mut warnings = gpu.data.warnings.clone();
-        let light_count = gpu.light_count;
+        let light_count = gpu.light_count();
         let shadow_maps = ShadowMapFrame::new(
             device,
             o.shadows == ShadowMode::Map,
@@ -665,11 +748,6 @@ impl ForwardRenderer {
         )?;
         let (view, proj) = view_and_projection(camera, width, height, gpu.bounds);
         let culled = !o.shadows.uses_stencil() && o.light_culling;
-        if culled && light_count > MAX_CULLED_LIGHTS {
-            warnings.push(format!(
-                "raster: {light_count} lights: more than the {MAX_CULLED_LIGHTS} light culling handles; every pixel shades every light"
-            ));
-        }
         let culling = LightCulling::frame(
             device,
             culled,
@@ -681,6 +759,11 @@ impl ForwardRenderer {
             height,
             o.msaa,
         );
+        if culled && culling.uniform.enabled == 0 && light_count > 0 {
+            warnings.push(format!(
+                "raster: {light_count} lights: more than the {MAX_CULLED_LIGHTS} light culling handles; every pixel shades every light"
+            ));
+        }
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("penumbra forward"),
             layout: &self.layout,
@@ -714,25 +797,12 @@ impl ForwardRenderer {
         // Stencil shadows: the receivers or volumes, and a parameter slot
         // per (light, receiver) or per light.
         let planar_frame = self.planar.as_ref().map(|p| {
-            let (receivers, w) = planar_receivers(scene);
+            let (receivers, w) = planar_receivers(scene, gpu.bounds);
             warnings.extend(w);
             p.frame(device, &gpu, receivers)
         });
         let volume_frame = match &self.volumes {
-            Some(v) => {
-                let limit = ShadowVolumes::max_triangles(device);
-                if let Some(inst) = scene
-                    .instances
-                    .iter()
-                    .find(|i| scene.meshes[i.mesh].indices.len() as u64 > limit)
-                {
-                    return Err(GpuError::Unsupported(format!(
-                        "mesh '{}' has more than {limit} triangles, the most one shadow-volume dispatch covers",
-                        scene.meshes[inst.mesh].name
-                    )));
-                }
-                Some(v.frame(device, scene, &gpu))
-            }
+            Some(v) => Some(v.frame(device, scene, &gpu)?),
             None => None,
         };
         let per_light = planar_frame
@@ -755,14 +825,7 @@ impl ForwardRenderer {
         };
         let timer = GpuTimer::new(ctx, shadow_maps.layers + 4 + stencil_passes * light_count);
 
-        let bytes_per_row = (width * 16).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
-            * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
-        let readback = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("readback"),
-            size: bytes_per_row as u64 * height as u64,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let readback = ImageReadback::new(device, width, height);
 
         let bg = scene.background;
         let clear = wgpu::LoadOp::Clear(wgpu::Color {
@@ -820,101 +883,34 @@ impl ForwardRenderer {
             pass.set_bind_group(1, &params.bind_group, &[0]);
             gpu.draw_all(&mut pass, true, 0);
         } else {
-            {
-                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some("base"),
-                    color_attachments: &[Some(targets.colour(clear, light_count == 0))],
-                    depth_stencil_attachment: Some(targets.depth_loaded(true)),
-                    timestamp_writes: timer.render_pass("base"),
-                    occlusion_query_set: None,
-                    multiview_mask: None,
-                });
-                pass.set_pipeline(&self.base_pipeline);
-                pass.set_bind_group(0, &bind_group, &[]);
-                pass.set_bind_group(1, &params.bind_group, &[0]);
-                gpu.draw_all(&mut pass, true, 0);
-            }
-            for light in 0..light_count {
-                let slot = light as usize * per_light;
-                let offset = PassParams::offset(slot);
-                if let (Some(v), Some(frame)) = (&self.volumes, &volume_frame) {
-                    v.record(
-                        &mut encoder,
-                        frame,
-                        &params.bind_group,
-                        offset,
-                        light,
-                        &targets.depth_view,
-                        &timer,
-                    );
-                }
-                if let (Some(p), Some(frame)) = (&self.planar, &planar_frame) {
-                    p.record(
-                        &mut encoder,
-                        frame,
-                        &gpu,
-                        &params.bind_group,
-                        slot,
-                        light,
-                        &targets.depth_view,
-                        &timer,
-                    );
-                }
-                let last = light + 1 == light_count;
-                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some("light"),
-                    color_attachments: &[Some(targets.colour(wgpu::LoadOp::Load, last))],
-                    depth_stencil_attachment: Some(targets.depth_loaded(true)),
-                    timestamp_writes: timer.render_pass(&format!("light {light}")),
-                    occlusion_query_set: None,
-                    multiview_mask: None,
-                });
-                pass.set_pipeline(&shading.light);
-                pass.set_bind_group(0, &bind_group, &[]);
-                pass.set_bind_group(1, &params.bind_group, &[offset]);
-                pass.set_stencil_reference(0);
-                gpu.draw_all(&mut pass, true, 0);
-            }
+            let frame = Frame {
+                gpu: &gpu,
+                bind_group: &bind_group,
+                params: &params,
+                targets: &targets,
+                timer: &timer,
+            };
+            self.record_stencil_lighting(
+                &mut encoder,
+                &frame,
+                &shading,
+                clear,
+                per_light,
+                volume_frame.as_ref(),
+                planar_frame.as_ref(),
+            );
         }
         timer.resolve(&mut encoder);
         LightCulling::record_stats_copy(&mut encoder, &culling);
-        encoder.copy_texture_to_buffer(
-            wgpu::TexelCopyTextureInfo {
-                texture: &targets.resolved,
-                mip_level: 0,
-                origin: wgpu::Origin3d::ZERO,
-                aspect: wgpu::TextureAspect::All,
-            },
-            wgpu::TexelCopyBufferInfo {
-                buffer: &readback,
-                layout: wgpu::TexelCopyBufferLayout {
-                    offset: 0,
-                    bytes_per_row: Some(bytes_per_row),
-                    rows_per_image: Some(height),
-                },
-            },
-            wgpu::Extent3d {
-                width,
-                height,
-                depth_or_array_layers: 1,
-            },
-        );
+        readback.record(&mut encoder, &targets.resolved);
         let frame_start = Instant::now();
         ctx.queue.submit([encoder.finish()]);
         ctx.wait_idle()?;
         let frame_ms = frame_start.elapsed().as_secs_f64() * 1e3;
 
-        let bytes = map_read(ctx, &readback)?;
-        let mut pixels = Vec::with_capacity(width as usize * height as usize);
-        for y in 0..height as usize {
-            let row: &[f32] =
-                bytemuck::cast_slice(&bytes[y * bytes_per_row as usize..][..width as usize * 16]);
-            pixels.extend(row.chunks_exact(4).map(|p| Vec3::new(p[0], p[1], p[2])));
-        }
+        let image = readback.read(ctx)?;
         let passes = timer.read(ctx)?;
         let culling_stats = LightCulling::stats(ctx, &culling)?;
-        let image =
-            Image::from_pixels(width, height, pixels).map_err(|e| GpuError::Wgpu(e.to_string()))?;
         Ok(RasterOutput {
             image,
             total_ms: start.elapsed().as_secs_f64() * 1e3,
@@ -923,6 +919,71 @@ impl ForwardRenderer {
             warnings,
             culling: culling_stats,
         })
+    }
+}
+
+/// The copy of the resolved `Rgba32Float` target into a mappable buffer,
+/// rows padded to the copy alignment.
+struct ImageReadback {
+    buffer: wgpu::Buffer,
+    bytes_per_row: u32,
+    width: u32,
+    height: u32,
+}
+
+impl ImageReadback {
+    fn new(device: &wgpu::Device, width: u32, height: u32) -> Self {
+        let bytes_per_row = (width * 16).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
+            * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+        let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("readback"),
+            size: bytes_per_row as u64 * height as u64,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        Self {
+            buffer,
+            bytes_per_row,
+            width,
+            height,
+        }
+    }
+
+    fn record(&self, encoder: &mut wgpu::CommandEncoder, texture: &wgpu::Texture) {
+        encoder.copy_texture_to_buffer(
+            wgpu::TexelCopyTextureInfo {
+                texture,
+                mip_level: 0,
+                origin: wgpu::Origin3d::ZERO,
+                aspect: wgpu::TextureAspect::All,
+            },
+            wgpu::TexelCopyBufferInfo {
+                buffer: &self.buffer,
+                layout: wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(self.bytes_per_row),
+                    rows_per_image: Some(self.height),
+                },
+            },
+            wgpu::Extent3d {
+                width: self.width,
+                height: self.height,
+                depth_or_array_layers: 1,
+            },
+        );
+    }
+
+    /// The image of a submitted frame (row 0 = top).
+    fn read(&self, ctx: &GpuContext) -> Result<Image, GpuError> {
+        let bytes = map_read(ctx, &self.buffer)?;
+        let (w, row_bytes) = (self.width as usize, self.bytes_per_row as usize);
+        let mut pixels = Vec::with_capacity(w * self.height as usize);
+        for y in 0..self.height as usize {
+            let row: &[f32] = bytemuck::cast_slice(&bytes[y * row_bytes..][..w * 16]);
+            pixels.extend(row.chunks_exact(4).map(|p| Vec3::new(p[0], p[1], p[2])));
+        }
+        Image::from_pixels(self.width, self.height, pixels)
+            .map_err(|e| GpuError::Wgpu(e.to_string()))
     }
 }
 

@@ -8,7 +8,7 @@
 
 use crate::gpu::{GpuInstance, GpuLight, GpuMaterial};
 use glam::{Mat3, Mat4, Vec3};
-use penumbra_scene::{Mesh, Scene, primitives};
+use penumbra_scene::{Material, Mesh, Scene, primitives};
 use penumbra_shading::light::{AreaLight, Shape};
 
 /// The scene as the forward pass sees it, and what it approximates.
@@ -44,14 +44,7 @@ impl SceneData {
         let mut warnings = Vec::new();
         let mut materials = Vec::with_capacity(scene.materials.len());
         for m in &scene.materials {
-            let (g, exact) = GpuMaterial::from_bsdf(&m.bsdf, m.emission, m.double_sided);
-            if !exact {
-                warnings.push(format!(
-                    "raster: material '{}' ({}) has no exact WGSL twin yet",
-                    m.name,
-                    bsdf_name(&m.bsdf)
-                ));
-            }
+            let g = GpuMaterial::from_bsdf(&m.bsdf, m.emission, m.double_sided);
             if m.albedo_texture.is_some() || m.metallic_roughness_texture.is_some() {
                 warnings.push(format!(
                     "raster: material '{}': textures are ignored (untextured factors used)",
@@ -64,7 +57,7 @@ impl SceneData {
             // Storage bindings cannot be empty.
             materials.push(GpuMaterial::default());
         }
-        let instances: Vec<GpuInstance> = scene
+        let mut instances: Vec<GpuInstance> = scene
             .instances
             .iter()
             .map(|inst| {
@@ -77,7 +70,6 @@ impl SceneData {
                 )
             })
             .collect();
-        let mut instances: Vec<GpuInstance> = instances;
         let mut lights: Vec<GpuLight> = scene
             .lights
             .iter()
@@ -87,13 +79,13 @@ impl SceneData {
         for l in &scene.area_lights {
             lights.push(GpuLight::from_far_field(&l.light.far_field()));
             let mut mesh = emitter_mesh(&l.light);
-            let (m, _) = GpuMaterial::from_bsdf(
-                &penumbra_shading::bsdf::Bsdf::Lambert(penumbra_shading::bsdf::Lambert::new(
-                    Vec3::ZERO,
-                )),
-                l.light.radiance,
-                l.light.two_sided && !matches!(l.light.shape, Shape::Sphere { .. }),
-            );
+            // Spheres emit outwards only; disks and quads on both sides if
+            // two-sided.
+            let emitter = Material {
+                double_sided: l.light.two_sided && !matches!(l.light.shape, Shape::Sphere { .. }),
+                ..Material::emitter(&l.name, l.light.radiance)
+            };
+            let m = GpuMaterial::from_bsdf(&emitter.bsdf, emitter.emission, emitter.double_sided);
             mesh.material = materials.len();
             materials.push(m);
             instances.push(GpuInstance::new(
@@ -169,20 +161,6 @@ fn emitter_mesh(light: &AreaLight) -> Mesh {
             edge1,
             edge2,
         } => primitives::quad(corner, edge1, edge2),
-    }
-}
-
-fn bsdf_name(b: &penumbra_shading::bsdf::Bsdf) -> &'static str {
-    use penumbra_shading::bsdf::Bsdf;
-    match b {
-        Bsdf::Lambert(_) => "Lambert",
-        Bsdf::PhongBlinn(_) => "Phong-Blinn",
-        Bsdf::Mirror(_) => "mirror",
-        Bsdf::Conductor(_) => "conductor",
-        Bsdf::Dielectric(_) => "dielectric",
-        Bsdf::RoughConductor(_) => "rough conductor",
-        Bsdf::RoughDielectric(_) => "rough dielectric",
-        Bsdf::MetallicRoughness(_) => "metallic-roughness",
     }
 }
 

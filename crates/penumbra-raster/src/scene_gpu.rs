@@ -25,7 +25,7 @@ pub(crate) fn buffer_init(
     })
 }
 
-/// A read-only storage-buffer binding.
+/// A storage-buffer binding (read-only or read-write).
 pub(crate) fn storage_entry(
     binding: u32,
     visibility: wgpu::ShaderStages,
@@ -177,8 +177,6 @@ pub(crate) struct SceneGpu {
     pub lights: wgpu::Buffer,
     /// Per material: reflected ambient light (see `SceneData::ambient`).
     pub ambient: wgpu::Buffer,
-    /// The scene's lights (at least one entry, zeroed, for empty scenes).
-    pub light_count: u32,
     /// Per mesh (the scene's, then the area lights' emitters); `None` for
     /// meshes without triangles.
     pub meshes: Vec<Option<GpuMesh>>,
@@ -193,6 +191,11 @@ pub(crate) struct SceneGpu {
 }
 
 impl SceneGpu {
+    /// Lights of the frame (the buffer holds at least one, zeroed, entry).
+    pub fn light_count(&self) -> u32 {
+        self.data.lights.len() as u32
+    }
+
     pub fn upload(
         device: &wgpu::Device,
         scene: &Scene,
@@ -286,7 +289,6 @@ impl SceneGpu {
                 bytemuck::cast_slice(&data.ambient),
                 storage,
             ),
-            light_count,
             meshes,
             draws,
             casters,

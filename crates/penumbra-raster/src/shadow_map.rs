@@ -90,7 +90,7 @@ pub fn shadow_views(
             map_size: size_f,
             ..GpuShadow::default()
         };
-        let position = Vec3::new(l.position[0], l.position[1], l.position[2]);
+        let position = l.xyz();
         match l.kind {
             LIGHT_DIRECTIONAL => {
                 // The homogeneous position points towards the light.

@@ -6,6 +6,7 @@
 //! light where the stencil is 0.
 
 use crate::camera::ORTHO_EXTRUSION_RADII;
+use crate::context::GpuError;
 use crate::gpu::{GpuVolumeGeometry, GpuVolumeInstance};
 use crate::scene_gpu::{
     SceneGpu, begin_stencil_pass, buffer_init, storage_entry, uniform_entry, whole,
@@ -151,8 +152,25 @@ impl ShadowVolumes {
     }
 
     /// Merges the scene's instanced meshes (with their adjacency) into the
-    /// volume buffers.
-    pub fn frame(&self, device: &wgpu::Device, scene: &Scene, gpu: &SceneGpu) -> VolumeFrame {
+    /// volume buffers; an error if a mesh has more triangles than one
+    /// facing dispatch covers.
+    pub fn frame(
+        &self,
+        device: &wgpu::Device,
+        scene: &Scene,
+        gpu: &SceneGpu,
+    ) -> Result<VolumeFrame, GpuError> {
+        let limit = 64 * device.limits().max_compute_workgroups_per_dimension as u64;
+        if let Some(m) = gpu.draws[..gpu.casters]
+            .iter()
+            .map(|&(_, mesh)| &scene.meshes[mesh])
+            .find(|m| m.indices.len() as u64 > limit)
+        {
+            return Err(GpuError::Unsupported(format!(
+                "mesh '{}' has more than {limit} triangles, the most one shadow-volume dispatch covers",
+                m.name
+            )));
+        }
         let mut positions: Vec<[f32; 4]> = Vec::new();
         let mut indices: Vec<u32> = Vec::new();
         let mut edges: Vec<[u32; 4]> = Vec::new();
@@ -269,13 +287,13 @@ impl ShadowVolumes {
                 ],
             })
         };
-        VolumeFrame {
+        Ok(VolumeFrame {
             facing_group: group(&self.facing_layout),
             draw_group: group(&self.draw_layout),
             volumes,
             max_triangles,
             _buffers: buffers,
-        }
+        })
     }
 
     /// Records light `light`'s facing pass and stencil pass; afterwards the
@@ -326,10 +344,5 @@ impl ShadowVolumes {
             let i = i as u32;
             pass.draw(0..6 * copies * v.edge_count, i..i + 1);
         }
-    }
-
-    /// Most triangles of one instance the facing dispatch covers.
-    pub fn max_triangles(device: &wgpu::Device) -> u64 {
-        64 * device.limits().max_compute_workgroups_per_dimension as u64
     }
 }

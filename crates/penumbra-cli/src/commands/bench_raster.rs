@@ -86,6 +86,7 @@ pub fn generated_lights(scene: &Scene, count: u32) -> Vec<SceneLight> {
     let range = 2.5 * radius / (count as f32).sqrt();
     let lift = (0.02 * radius).min(0.3 * range);
     let intensity = 8.0 * range * range / count as f32;
+    let centre = 0.5 * (lo + hi);
     (0..count)
         .map(|i| {
             // Additive recurrences with the plastic constant's powers.
@@ -103,8 +104,7 @@ pub fn generated_lights(scene: &Scene, count: u32) -> Vec<SceneLight> {
             };
             let p = a + (b - a) * su + (c - a) * sv;
             // Above the side of the face the camera is more likely to see:
-            // towards the bounds' centre's opposite for closed objects.
-            let centre = 0.5 * (lo + hi);
+            // away from the bounds' centre for closed objects.
             let up = if n.dot(p - centre) >= 0.0 || n.y > 0.5 {
                 n
             } else {

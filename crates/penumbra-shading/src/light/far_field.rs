@@ -13,7 +13,7 @@
 //!   at d = 10 r) and near the emitter it can be far off; soft shadows and
 //!   highlights of the extent are lost.
 
-use super::{AreaLight, LightSample, Shape};
+use super::{AreaLight, HomogeneousLight, LightSample, Shape};
 use crate::Rgb;
 use glam::Vec3;
 use std::f32::consts::PI;
@@ -42,52 +42,36 @@ impl FarField {
         if self.two_sided { c.abs() } else { c.max(0.0) }
     }
 
-    /// Irradiance on a surface perpendicular to `wi` at `p`:
-    /// `E⊥ = I(−wi) / d²`; `None` where the lobe is zero or at the centre.
+    /// Irradiance on a surface perpendicular to `wi` at `p`: the point
+    /// light's `E⊥ = I / d²` ([`HomogeneousLight`]) times the lobe towards
+    /// `−wi`; `None` where the lobe is zero or at the centre.
     pub fn sample_li(&self, p: Vec3) -> Option<LightSample> {
-        let d = self.position - p;
-        let d2 = d.length_squared();
-        if d2 == 0.0 || !d2.is_finite() {
-            return None;
-        }
-        let dist = d2.sqrt();
-        let wi = d / dist;
-        let lobe = self.lobe(-wi);
+        let mut s = HomogeneousLight::point(self.position, self.intensity).sample_li(p)?;
+        let lobe = self.lobe(-s.wi);
         if lobe <= 0.0 {
             return None;
         }
-        Some(LightSample {
-            wi,
-            distance: dist,
-            value: self.intensity * (lobe / d2),
-            pdf: 1.0,
-            is_delta: true,
-        })
+        s.value *= lobe;
+        Some(s)
     }
 }
 
 impl AreaLight {
     /// The light's point-light limit (see the module documentation).
     pub fn far_field(&self) -> FarField {
+        // A sphere's projected area is π r²; a flat emitter's, A cos θ.
         let (position, axis, area) = match self.shape {
             Shape::Sphere { center, radius } => (center, Vec3::ZERO, PI * radius * radius),
-            Shape::Disk {
-                center,
-                normal,
-                radius,
-            } => (center, normal, PI * radius * radius),
+            Shape::Disk { center, normal, .. } => (center, normal, self.shape.area()),
             Shape::Quad {
                 corner,
                 edge1,
                 edge2,
-            } => {
-                let n = edge1.cross(edge2);
-                (
-                    corner + 0.5 * (edge1 + edge2),
-                    n.normalize_or_zero(),
-                    n.length(),
-                )
-            }
+            } => (
+                corner + 0.5 * (edge1 + edge2),
+                edge1.cross(edge2).normalize_or_zero(),
+                self.shape.area(),
+            ),
         };
         FarField {
             position,

@@ -56,13 +56,11 @@ impl PointLight {
     /// cos θ. `None` at and beyond the range.
     pub fn sample_li(&self, p: Vec3) -> Option<LightSample> {
         let mut s = self.homogeneous().sample_li(p)?;
-        if self.range != f32::INFINITY {
-            let w = range_window(s.distance, self.range);
-            if w <= 0.0 {
-                return None;
-            }
-            s.value *= w;
+        let w = range_window(s.distance, self.range);
+        if w <= 0.0 {
+            return None;
         }
+        s.value *= w;
         Some(s)
     }
 
