@@ -1,6 +1,7 @@
 //! Shared command-line value parsers and helpers.
 
 use anyhow::{Context, Result, bail};
+use penumbra_image::available_memory;
 use penumbra_scene::{LoadOptions, Scene};
 use std::path::Path;
 
@@ -56,14 +57,6 @@ pub fn load_scene(path: &Path) -> Result<Scene> {
         options.allowed_absolute_paths.push(abs);
     }
     Ok(penumbra_scene::load_scene(path, &options)?)
-}
-
-/// Bytes of memory currently available (Linux `MemAvailable`), if known.
-pub fn available_memory() -> Option<u64> {
-    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
-    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
-    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kib * 1024)
 }
 
 /// Refuses image sizes whose buffers would not fit in memory.

@@ -14,6 +14,7 @@ pub mod film;
 pub mod flip;
 mod flip_ldr;
 pub mod io;
+pub mod memory;
 pub mod metrics;
 pub mod png_io;
 pub mod tonemap;
@@ -30,6 +31,7 @@ pub use crate::flip::{
     flip_heatmap, hdr_flip, hdr_flip_with,
 };
 pub use crate::io::{ImageFormat, check_output_path, read_image, write_image};
+pub use crate::memory::available_memory;
 pub use crate::metrics::{Metrics, compare, psnr, rel_mse, rmse};
 pub use crate::tonemap::{
     ToneMapping, ToneOperator, aces_filmic, srgb_eotf, srgb_oetf, tonemap_to_srgb8,

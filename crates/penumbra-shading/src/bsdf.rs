@@ -187,6 +187,27 @@ impl Bsdf {
         each_model!(self, m => m.albedo())
     }
 
+    /// c_diff: the albedo of the model's Lambertian lobe alone, what an
+    /// irradiance map is multiplied by (`B = c_diff · E`, notes 004): ρ for
+    /// Lambert, π kd for the Phong–Blinn family, the base colour ×
+    /// (1 − metallic)(1 − transmission) for metallic–roughness (its diffuse
+    /// base before the Kulla–Conty energy scaling, which depends on the
+    /// directions); 0 for models without a diffuse lobe.
+    pub fn diffuse_albedo(&self) -> Rgb {
+        match self {
+            Bsdf::Lambert(m) => m.albedo,
+            Bsdf::PhongBlinn(m) => m.kd * std::f32::consts::PI,
+            Bsdf::MetallicRoughness(m) => {
+                m.base_color * ((1.0 - m.metallic) * (1.0 - m.transmission))
+            }
+            Bsdf::Mirror(_)
+            | Bsdf::Conductor(_)
+            | Bsdf::Dielectric(_)
+            | Bsdf::RoughConductor(_)
+            | Bsdf::RoughDielectric(_) => Rgb::ZERO,
+        }
+    }
+
     /// The base colour multiplied by `t` (textures).
     pub fn tinted(self, t: Rgb) -> Bsdf {
         match self {

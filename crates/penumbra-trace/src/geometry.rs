@@ -36,6 +36,10 @@ pub struct SurfaceHit {
     /// same side as `ng`.
     pub ns: Vec3,
     pub uv: Vec2,
+    /// Barycentrics of the hit for the triangle's vertices 1 and 2 (mesh
+    /// order); 0 on a light.
+    pub b1: f32,
+    pub b2: f32,
     /// Meaningless when `light` is set (check it first).
     pub material: MaterialId,
     /// Triangle index in [`SceneGeometry`] order (u32::MAX for a light).
@@ -101,6 +105,45 @@ impl SceneGeometry {
         }
     }
 
+    /// Index (into `Scene::instances`) of the instance a triangle belongs to.
+    pub fn instance_of(&self, triangle: u32) -> usize {
+        self.sources[triangle as usize].instance as usize
+    }
+
+    /// The instance a triangle belongs to and its index in the instance's
+    /// mesh.
+    pub fn triangle_source(&self, triangle: u32) -> (usize, usize) {
+        let s = self.sources[triangle as usize];
+        (s.instance as usize, s.local as usize)
+    }
+
+    /// The triangles of instance `instance`: its mesh's triangles in mesh
+    /// order, as the consecutive indices `first..first + count`.
+    pub fn instance_triangles(&self, instance: usize) -> std::ops::Range<u32> {
+        let start = self
+            .sources
+            .partition_point(|s| (s.instance as usize) < instance);
+        let end = self
+            .sources
+            .partition_point(|s| (s.instance as usize) <= instance);
+        start as u32..end as u32
+    }
+
+    /// The surface at barycentrics (b1, b2) of `triangle`, as a ray hit there
+    /// would report it (t = 0): the starting point of queries that begin on
+    /// a surface, such as a light-map texel.
+    pub fn surface_point(&self, scene: &Scene, triangle: u32, b1: f32, b2: f32) -> SurfaceHit {
+        self.surface_at(
+            scene,
+            &Hit {
+                triangle,
+                t: 0.0,
+                b1,
+                b2,
+            },
+        )
+    }
+
     /// Material of a triangle.
     pub fn material_of(&self, triangle: u32) -> MaterialId {
         self.instances[self.sources[triangle as usize].instance as usize].material
@@ -119,6 +162,7 @@ impl SceneGeometry {
 
     /// Closest surface along `ray`.
     pub fn intersect(&self, scene: &Scene, ray: &Ray) -> Option<SurfaceHit> {
+        crate::stats::count_ray();
         let hit = self.accel.intersect(ray);
         let mut tmax = hit.as_ref().map_or(ray.tmax, |h| h.t);
         let mut light_hit = None;
@@ -135,6 +179,8 @@ impl SceneGeometry {
                 ng: h.n,
                 ns: h.n,
                 uv: Vec2::ZERO,
+                b1: 0.0,
+                b2: 0.0,
                 material: 0,
                 triangle: u32::MAX,
                 light: Some(i),
@@ -145,6 +191,7 @@ impl SceneGeometry {
 
     /// Is anything (triangle or area light) along `ray` before `ray.tmax`?
     pub fn occluded(&self, ray: &Ray) -> bool {
+        crate::stats::count_ray();
         self.area_lights.iter().any(|l| {
             l.shape
                 .intersect(ray.origin, ray.direction, ray.tmax)
@@ -188,6 +235,8 @@ impl SceneGeometry {
             ng,
             ns,
             uv,
+            b1,
+            b2,
             material: inst_data.material,
             triangle: hit.triangle,
             light: None,

@@ -1,5 +1,7 @@
 //! penumbra-trace: CPU ray tracing — BVH, light sampling, integrators
-//! (`local`, `direct`, `path`, `ao`) and the tiled, reproducible render loop.
+//! (`local`, `direct`, `path`, `ao`, `whitted`), the tiled, reproducible
+//! render loop, and surface queries that start on a surface instead of at
+//! the camera (ambient occlusion and irradiance at a point: the bakes).
 
 pub mod accel;
 pub mod bench;
@@ -8,5 +10,6 @@ pub mod integrator;
 pub mod lights;
 pub mod ray;
 pub mod render;
+pub mod stats;
 
 pub use render::{Progress, RenderOptions, RenderOutput, render, scene_camera};

@@ -38,6 +38,36 @@ pub struct ChosenLight {
     /// Probability of having selected this light; `sample.value` does not
     /// include it, so estimators divide by it.
     pub select_pdf: f32,
+    /// The sampler's entry that was chosen (see [`LightSampler::source`]).
+    pub entry: usize,
+}
+
+/// Where an emitted contribution came from, as the integrators know it
+/// (cheap to make; [`LightSampler::source`] names the light).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Emitter {
+    /// A light chosen by next-event estimation (a sampler entry).
+    Entry(usize),
+    /// An emissive triangle (index in [`SceneGeometry`]) hit by a ray.
+    Triangle(u32),
+    /// An analytic area light (index into `Scene::area_lights`) hit by a ray.
+    Shape(u32),
+    /// The environment, reached by an escaping ray.
+    Environment,
+}
+
+/// A light of the scene as a user names it: what per-light light maps are
+/// split by.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum LightSource {
+    /// `Scene::lights[i]` (point, directional, spot).
+    Light(usize),
+    /// `Scene::area_lights[i]` (sphere, disk, quad).
+    AreaLight(usize),
+    /// The emissive triangles of `Scene::instances[i]`.
+    EmissiveInstance(usize),
+    /// The environment (constant background or map).
+    Environment,
 }
 
 #[derive(Debug)]
@@ -147,7 +177,11 @@ impl LightSampler {
     ) -> Option<ChosenLight> {
         let (i, select_pdf) = self.all.sample(u_select)?;
         let sample = self.sample_entry(scene, geometry, i, p, u)?;
-        Some(ChosenLight { sample, select_pdf })
+        Some(ChosenLight {
+            sample,
+            select_pdf,
+            entry: i,
+        })
     }
 
     /// Picks a light with extent (emissive triangle, analytic area light or
@@ -162,8 +196,46 @@ impl LightSampler {
         u: [f32; 2],
     ) -> Option<ChosenLight> {
         let (k, select_pdf) = self.area.sample(u_select)?;
-        let sample = self.sample_entry(scene, geometry, self.area_entries[k], p, u)?;
-        Some(ChosenLight { sample, select_pdf })
+        let entry = self.area_entries[k];
+        let sample = self.sample_entry(scene, geometry, entry, p, u)?;
+        Some(ChosenLight {
+            sample,
+            select_pdf,
+            entry,
+        })
+    }
+
+    /// The scene light behind a contribution; `None` for an emitter hit
+    /// that is not one of the sampler's lights (it emits no power).
+    pub fn source(&self, geometry: &SceneGeometry, emitter: Emitter) -> Option<LightSource> {
+        let entry = match emitter {
+            Emitter::Entry(e) => e,
+            Emitter::Triangle(t) => {
+                return (self.entry_of_triangle.get(t as usize) != Some(&u32::MAX))
+                    .then(|| LightSource::EmissiveInstance(geometry.instance_of(t)));
+            }
+            Emitter::Shape(l) => return Some(LightSource::AreaLight(l as usize)),
+            Emitter::Environment => return Some(LightSource::Environment),
+        };
+        Some(match *self.entries.get(entry)? {
+            Entry::Abstract(i) => LightSource::Light(i),
+            Entry::Shape(i) => LightSource::AreaLight(i),
+            Entry::Environment => LightSource::Environment,
+            Entry::Triangle { triangle, .. } => {
+                LightSource::EmissiveInstance(geometry.instance_of(triangle))
+            }
+        })
+    }
+
+    /// Every light the sampler can choose, each once, in a fixed order
+    /// (abstract lights, emissive instances, area lights, environment).
+    pub fn sources(&self, geometry: &SceneGeometry) -> Vec<LightSource> {
+        let mut out: Vec<LightSource> = (0..self.entries.len())
+            .filter_map(|e| self.source(geometry, Emitter::Entry(e)))
+            .collect();
+        out.sort();
+        out.dedup();
+        out
     }
 
     fn sample_entry(

@@ -3,7 +3,7 @@
 //! visibility itself. Rays longer than `ao_distance` count as unoccluded.
 //! The output is kA in all three channels (1 = fully open).
 
-use super::{PathSample, TraceContext};
+use super::{PathSample, Shading, TraceContext};
 use crate::ray::Ray;
 use penumbra_shading::Rgb;
 use penumbra_shading::sampling::{Sampler, square_to_cosine_hemisphere};
@@ -20,15 +20,19 @@ pub fn li(ctx: &TraceContext, ray: &Ray, sampler: &mut Sampler) -> PathSample {
     let shading = ctx.shading(&hit, wo);
     let mut out = ctx.first_hit_aovs(shading.as_ref(), &hit);
     let Some(s) = shading else { return out };
-    let wi = s
-        .frame
-        .to_world(square_to_cosine_hemisphere(sampler.next_2d()));
-    let ka = if wi.dot(s.ng) > 0.0 {
-        let r = ctx.spawn(&s, wi, ctx.settings.ao_distance);
-        if ctx.geometry.occluded(&r) { 0.0 } else { 1.0 }
-    } else {
-        0.0
-    };
-    out.radiance = Rgb::splat(ka);
+    out.radiance = Rgb::splat(visibility(ctx, &s, sampler.next_2d()));
     out
+}
+
+/// One sample of kA at `s`: a cosine-weighted direction `u` about the
+/// shading normal, 1 if it leaves above the geometric surface and nothing
+/// lies within `ao_distance` along it, else 0. The `ao` integrator and the
+/// ambient-occlusion bake share it, so they estimate the same quantity.
+pub(crate) fn visibility(ctx: &TraceContext, s: &Shading, u: [f32; 2]) -> f32 {
+    let wi = s.frame.to_world(square_to_cosine_hemisphere(u));
+    if wi.dot(s.ng) <= 0.0 {
+        return 0.0;
+    }
+    let r = ctx.spawn(s, wi, ctx.settings.ao_distance);
+    if ctx.geometry.occluded(&r) { 0.0 } else { 1.0 }
 }

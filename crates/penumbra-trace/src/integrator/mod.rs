@@ -3,7 +3,10 @@
 mod ao;
 mod local;
 mod path;
+mod surface;
 mod whitted;
+
+pub use path::RadianceSink;
 
 use crate::geometry::{SceneGeometry, SurfaceHit};
 use crate::lights::LightSampler;

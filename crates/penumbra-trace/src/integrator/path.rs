@@ -5,15 +5,53 @@
 //! Estimates `L = Le + ∫ f Li cos dω` recursively. `max_depth` counts path
 //! segments from the camera as Mitsuba does: 1 = emitters seen directly,
 //! 2 = direct lighting, and so on.
+//!
+//! The walk is shared by camera paths ([`li`]) and by paths that start on
+//! a surface ([`super::TraceContext::irradiance_at`], the light-map bake):
+//! every emitted contribution goes to a [`RadianceSink`] with the light it
+//! came from and the segment that reached it, so a sink can sum it, leave
+//! out direct light, or split it per light.
 
-use super::{PathSample, TraceContext};
-use crate::lights::emitted;
+use super::{PathSample, Shading, TraceContext};
+use crate::lights::{Emitter, emitted};
 use crate::ray::Ray;
+use glam::Vec3;
 use penumbra_shading::Rgb;
 use penumbra_shading::sampling::{Sampler, power_heuristic};
 
 /// Segments after which Russian roulette may end a path.
 const RR_START_DEPTH: u32 = 4;
+
+/// Receives the emitted radiance a path collects.
+pub trait RadianceSink {
+    /// `value` (throughput and MIS weight applied) was emitted by `emitter`
+    /// and reached the path along its segment number `segment` (counted
+    /// from the path's start: 1 = the first ray, 2 = a light seen from the
+    /// first vertex, ...).
+    fn add(&mut self, emitter: Emitter, segment: u32, value: Rgb);
+}
+
+/// The plain sum (camera paths).
+impl RadianceSink for Rgb {
+    #[inline]
+    fn add(&mut self, _emitter: Emitter, _segment: u32, value: Rgb) {
+        *self += value;
+    }
+}
+
+/// A path between bounces: the ray about to be traced and what it carries.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct PathState {
+    pub ray: Ray,
+    /// Throughput of the path up to the ray's origin.
+    pub beta: Rgb,
+    /// Solid-angle pdf of the BSDF sample that made `ray` (None = camera
+    /// ray, or after a delta lobe: emitter hits get MIS weight 1).
+    pub prev_bsdf_pdf: Option<f32>,
+    pub prev_point: Vec3,
+    /// Segments so far, counting `ray`.
+    pub depth: u32,
+}
 
 pub fn li(
     ctx: &TraceContext,
@@ -22,124 +60,169 @@ pub fn li(
     max_depth: u32,
 ) -> PathSample {
     let mut out = PathSample::default();
-    let mut radiance = Rgb::ZERO;
-    let mut beta = Rgb::ONE;
-    let mut ray = *camera_ray;
-    // Solid-angle pdf of the BSDF sample that made `ray` (None = camera ray).
-    let mut prev_bsdf_pdf: Option<f32> = None;
-    let mut prev_point = ray.origin;
-    let mut depth = 1u32; // segments so far, counting `ray`
     if max_depth == 0 {
         return out;
     }
+    let mut radiance = Rgb::ZERO;
+    let start = PathState {
+        ray: *camera_ray,
+        beta: Rgb::ONE,
+        prev_bsdf_pdf: None,
+        prev_point: camera_ray.origin,
+        depth: 1,
+    };
+    walk(ctx, start, sampler, max_depth, &mut radiance, &mut out);
+    out.radiance = radiance;
+    out
+}
+
+/// Traces `st` onwards until the path ends, handing emitted radiance to
+/// `sink`; `aov` receives the first hit's AOVs when `st.depth` is 1.
+pub(crate) fn walk<S: RadianceSink>(
+    ctx: &TraceContext,
+    mut st: PathState,
+    sampler: &mut Sampler,
+    max_depth: u32,
+    sink: &mut S,
+    aov: &mut PathSample,
+) {
     loop {
-        let Some(hit) = ctx.geometry.intersect(ctx.scene, &ray) else {
+        let Some(hit) = ctx.geometry.intersect(ctx.scene, &st.ray) else {
             // Environment, MIS-weighted against its NEE sampling.
-            let le = ctx.lights.environment().eval(ray.direction);
+            let le = ctx.lights.environment().eval(st.ray.direction);
             if le != Rgb::ZERO {
-                let weight = prev_bsdf_pdf.map_or(1.0, |bsdf_pdf| {
-                    power_heuristic(bsdf_pdf, ctx.lights.pdf_environment(ray.direction))
+                let weight = st.prev_bsdf_pdf.map_or(1.0, |bsdf_pdf| {
+                    power_heuristic(bsdf_pdf, ctx.lights.pdf_environment(st.ray.direction))
                 });
-                radiance += beta * le * weight;
+                sink.add(Emitter::Environment, st.depth, st.beta * le * weight);
             }
-            break;
+            return;
         };
-        let wo = -ray.direction;
+        let wo = -st.ray.direction;
         if let Some(l) = hit.light {
             // Analytic area light: a pure emitter, MIS-weighted against NEE.
             let le = ctx.geometry.area_lights[l as usize].emitted(hit.ng, wo);
             if le != Rgb::ZERO {
-                let weight = prev_bsdf_pdf.map_or(1.0, |bsdf_pdf| {
+                let weight = st.prev_bsdf_pdf.map_or(1.0, |bsdf_pdf| {
                     let light_pdf =
                         ctx.lights
-                            .pdf_area_light(ctx.geometry, l, prev_point, ray.direction);
+                            .pdf_area_light(ctx.geometry, l, st.prev_point, st.ray.direction);
                     power_heuristic(bsdf_pdf, light_pdf)
                 });
-                radiance += beta * le * weight;
+                sink.add(Emitter::Shape(l), st.depth, st.beta * le * weight);
             }
-            if depth == 1 {
-                out = ctx.first_hit_aovs(None, &hit);
+            if st.depth == 1 {
+                *aov = ctx.first_hit_aovs(None, &hit);
             }
-            break;
+            return;
         }
         let material = &ctx.scene.materials[hit.material];
         // Emission reached by this segment, MIS-weighted against NEE.
         let le = emitted(material.emission, material.double_sided, hit.ng, wo);
         if le != Rgb::ZERO {
-            let weight = match prev_bsdf_pdf {
-                None => 1.0,
-                Some(bsdf_pdf) => {
-                    let light_pdf =
-                        ctx.lights
-                            .pdf_triangle(hit.triangle, prev_point, hit.p, hit.ng);
-                    power_heuristic(bsdf_pdf, light_pdf)
-                }
-            };
-            radiance += beta * le * weight;
+            let weight = st.prev_bsdf_pdf.map_or(1.0, |bsdf_pdf| {
+                let light_pdf = ctx
+                    .lights
+                    .pdf_triangle(hit.triangle, st.prev_point, hit.p, hit.ng);
+                power_heuristic(bsdf_pdf, light_pdf)
+            });
+            sink.add(
+                Emitter::Triangle(hit.triangle),
+                st.depth,
+                st.beta * le * weight,
+            );
         }
         let shading = ctx.shading(&hit, wo);
-        if depth == 1 {
-            out = ctx.first_hit_aovs(shading.as_ref(), &hit);
+        if st.depth == 1 {
+            *aov = ctx.first_hit_aovs(shading.as_ref(), &hit);
         }
-        let Some(s) = shading else { break };
-        if depth >= max_depth {
-            break;
+        let Some(s) = shading else { return };
+        if st.depth >= max_depth {
+            return;
         }
-        // Next-event estimation: one light sample (adds segment depth + 1),
-        // skipped for purely specular surfaces, whose eval is 0 everywhere.
-        let [u_sel, _] = sampler.next_2d();
-        let u_light = sampler.next_2d();
-        let chosen = if s.bsdf.flags().non_delta {
-            ctx.lights
-                .sample(ctx.scene, ctx.geometry, s.hit.p, u_sel, u_light)
-        } else {
-            None
-        };
-        if let Some(chosen) = chosen {
-            let ls = chosen.sample;
-            let wi_local = s.frame.to_local(ls.wi);
-            let cos = wi_local.z.abs();
-            if TraceContext::consistent_side(&s, ls.wi, wi_local) {
-                let f = s.bsdf.eval(s.wo_local, wi_local);
-                if f != Rgb::ZERO && ctx.visible(&s, ls.wi, ls.distance) {
-                    let weight = if ls.is_delta {
-                        1.0
-                    } else {
-                        power_heuristic(
-                            ls.pdf * chosen.select_pdf,
-                            s.bsdf.pdf(s.wo_local, wi_local),
-                        )
-                    };
-                    radiance += beta * f * ls.value * (cos * weight / chosen.select_pdf);
-                }
-            }
+        next_event(ctx, &s, sampler, st.beta, st.depth, sink);
+        match scatter(ctx, &s, sampler, st) {
+            Some(next) => st = next,
+            None => return,
         }
-        // BSDF sampling continues the path.
-        let Some(bs) = s
-            .bsdf
-            .sample(s.wo_local, sampler.next_1d(), sampler.next_2d())
-        else {
-            break;
-        };
-        let wi = s.frame.to_world(bs.wi);
-        if !TraceContext::consistent_side(&s, wi, bs.wi) {
-            break;
+    }
+}
+
+/// Next-event estimation at `s` (the end of segment `depth`): one light
+/// sample, weighted against BSDF sampling; skipped for purely specular
+/// surfaces, whose eval is 0 everywhere. Adds to segment `depth + 1`.
+pub(crate) fn next_event<S: RadianceSink>(
+    ctx: &TraceContext,
+    s: &Shading,
+    sampler: &mut Sampler,
+    beta: Rgb,
+    depth: u32,
+    sink: &mut S,
+) {
+    let [u_sel, _] = sampler.next_2d();
+    let u_light = sampler.next_2d();
+    if !s.bsdf.flags().non_delta {
+        return;
+    }
+    let Some(chosen) = ctx
+        .lights
+        .sample(ctx.scene, ctx.geometry, s.hit.p, u_sel, u_light)
+    else {
+        return;
+    };
+    let ls = chosen.sample;
+    let wi_local = s.frame.to_local(ls.wi);
+    if !TraceContext::consistent_side(s, ls.wi, wi_local) {
+        return;
+    }
+    let f = s.bsdf.eval(s.wo_local, wi_local);
+    if f == Rgb::ZERO || !ctx.visible(s, ls.wi, ls.distance) {
+        return;
+    }
+    let weight = if ls.is_delta {
+        1.0
+    } else {
+        power_heuristic(ls.pdf * chosen.select_pdf, s.bsdf.pdf(s.wo_local, wi_local))
+    };
+    let cos = wi_local.z.abs();
+    sink.add(
+        Emitter::Entry(chosen.entry),
+        depth + 1,
+        beta * f * ls.value * (cos * weight / chosen.select_pdf),
+    );
+}
+
+/// BSDF sampling at `s`: the next segment of the path, or `None` when the
+/// path ends (no sample, a direction on the wrong side, Russian roulette).
+pub(crate) fn scatter(
+    ctx: &TraceContext,
+    s: &Shading,
+    sampler: &mut Sampler,
+    st: PathState,
+) -> Option<PathState> {
+    let bs = s
+        .bsdf
+        .sample(s.wo_local, sampler.next_1d(), sampler.next_2d())?;
+    let wi = s.frame.to_world(bs.wi);
+    if !TraceContext::consistent_side(s, wi, bs.wi) {
+        return None;
+    }
+    let mut beta = st.beta * bs.weight;
+    let depth = st.depth + 1;
+    if depth > RR_START_DEPTH {
+        let q = beta.max_element().min(0.95);
+        if sampler.next_1d() >= q {
+            return None;
         }
-        beta *= bs.weight;
-        depth += 1;
-        if depth > RR_START_DEPTH {
-            let q = beta.max_element().min(0.95);
-            if sampler.next_1d() >= q {
-                break;
-            }
-            beta /= q;
-        }
+        beta /= q;
+    }
+    Some(PathState {
+        ray: ctx.spawn(s, wi, f32::INFINITY),
+        beta,
         // After a delta lobe the emitter hit gets weight 1: NEE cannot
         // sample that direction.
-        prev_bsdf_pdf = (!bs.delta).then_some(bs.pdf);
-        prev_point = s.hit.p;
-        ray = ctx.spawn(&s, wi, f32::INFINITY);
-    }
-    out.radiance = radiance;
-    out
+        prev_bsdf_pdf: (!bs.delta).then_some(bs.pdf),
+        prev_point: s.hit.p,
+        depth,
+    })
 }
