@@ -25,6 +25,8 @@ enum Command {
     Info(commands::info::InfoArgs),
     /// Compare a test image with a reference: RMSE, relMSE, PSNR and HDR-FLIP.
     Compare(commands::compare::CompareArgs),
+    /// Precompute ambient occlusion, irradiance light maps or radiosity into a light-map atlas.
+    Bake(commands::bake::BakeArgs),
     /// Measure BVH build and ray-tracing throughput, and path-tracing speed.
     Bench(commands::bench::BenchArgs),
 }
@@ -36,6 +38,7 @@ fn main() -> ExitCode {
         Command::Info(a) => commands::info::run(a),
         Command::Compare(a) => commands::compare::run(a),
         Command::Bench(a) => commands::bench::run(a),
+        Command::Bake(a) => commands::bake::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
