@@ -375,6 +375,37 @@ pub struct GpuReceiver {
     pub _pad2: f32,
 }
 
+/// Where one instance's light-map texels lie (WGSL `GpuBakeInstance`), per
+/// bake and instance: the atlas coordinate of corner `c` of the instance's
+/// mesh is `uv_min + corner_uvs[first_corner + c] (uv_max − uv_min)`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuBakeInstance {
+    pub uv_min: [f32; 2],
+    pub uv_max: [f32; 2],
+    /// The mesh's first corner in the bake's corner-coordinate buffer.
+    pub first_corner: u32,
+    /// Atlas page (array layer).
+    pub page: u32,
+    /// 0: the instance has no texels in this bake (nothing to look up).
+    pub valid: u32,
+    pub _pad0: u32,
+}
+
+/// Which bakes a frame shows (WGSL `GpuBakeParams`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuBakeParams {
+    /// 1: an ambient-occlusion bake multiplies the ambient light.
+    pub ao: u32,
+    /// 1: an irradiance bake (light map or radiosity) gives diffuse light.
+    pub irradiance: u32,
+    /// 1: the irradiance bake holds indirect light only, so the real-time
+    /// lights add the direct part.
+    pub indirect_only: u32,
+    pub _pad0: u32,
+}
+
 /// Host layout of one `#[repr(C)]` GPU struct: its WGSL name, size and
 /// (field name, offset) pairs, from `size_of` and `offset_of!`.
 #[derive(Clone, Debug, PartialEq)]
@@ -435,6 +466,16 @@ pub fn gpu_structs() -> Vec<HostLayout> {
                 conductor_k,
                 _pad0
             ]
+        ),
+        host_layout!(
+            GpuBakeInstance,
+            "GpuBakeInstance",
+            [uv_min, uv_max, first_corner, page, valid, _pad0]
+        ),
+        host_layout!(
+            GpuBakeParams,
+            "GpuBakeParams",
+            [ao, irradiance, indirect_only, _pad0]
         ),
         host_layout!(
             GpuCamera,

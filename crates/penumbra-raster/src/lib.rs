@@ -18,6 +18,7 @@ pub mod context;
 pub mod gpu;
 pub mod light_culling;
 pub mod material_tables;
+pub mod passes;
 mod planar_shadow;
 pub mod receivers;
 pub mod renderer;
@@ -34,6 +35,7 @@ pub use wgpu;
 pub use camera::{gpu_camera, view_projection};
 pub use context::{AdapterSummary, GpuContext, GpuError, SOFTWARE_VULKAN_PACKAGES};
 pub use light_culling::CullingStats;
+pub use passes::lightmap::BakedMaps;
 pub use renderer::{
     ForwardRenderer, MAX_PCF, RasterOptions, RasterOutput, ShadowMode, map_read, render_scene,
 };

@@ -9,12 +9,16 @@
 //!    and an additive pass of that light where the stencil says lit;
 //!
 //! into an `Rgba32Float` target (MSAA 1 or 4), read back as an [`Image`].
+//! Baked maps ([`BakedMaps`]: ambient occlusion, irradiance) are looked up
+//! by the shading passes (group 2), and with `aovs` a last pass writes the
+//! looked-up values into their own targets.
 
 use crate::camera::view_and_projection;
 use crate::context::{GpuContext, GpuError};
 use crate::gpu::GpuPassParams;
 use crate::light_culling::{CullingStats, LightCulling, MAX_CULLED_LIGHTS};
 use crate::material_tables::{KULLA_CONTY_BINDING, kulla_conty_table};
+use crate::passes::lightmap::{BAKE_GROUP, BakedMaps, LightmapFrame, bake_layout};
 use crate::planar_shadow::{PlanarFrame, PlanarShadows};
 use crate::receivers::planar_receivers;
 use crate::scene_gpu::{
@@ -123,6 +127,9 @@ pub struct RasterOutput {
     pub warnings: Vec<String>,
     /// The light lists of the tiles, with [`RasterOptions::culling_stats`].
     pub culling: Option<CullingStats>,
+    /// With bakes and `aovs`: `ao` (kA) and `irradiance` (E in W/m²) as
+    /// looked up at each pixel.
+    pub aovs: Vec<(String, Image)>,
 }
 
 /// One vertex buffer of `vec3<f32>` at `location` (0 positions, 1 normals).
@@ -213,7 +220,8 @@ fn build_pipeline(
 }
 
 /// The shading pipelines specialised to the material models of a scene
-/// (the `MATERIAL_MODELS` mask).
+/// (the `MATERIAL_MODELS` mask) and to the presence of bakes
+/// (`BAKED_MAPS`).
 #[derive(Debug)]
 struct ShadingPipelines {
     forward: wgpu::RenderPipeline,
@@ -232,9 +240,13 @@ pub struct ForwardRenderer {
     module: wgpu::ShaderModule,
     pipeline_layout: wgpu::PipelineLayout,
     light_stencil: wgpu::StencilState,
-    /// Forward and one-light pipelines by material-model mask, made on
-    /// first use.
-    shading: Mutex<HashMap<u32, Arc<ShadingPipelines>>>,
+    /// Forward and one-light pipelines by (material-model mask, bakes),
+    /// made on first use.
+    shading: Mutex<HashMap<(u32, bool), Arc<ShadingPipelines>>>,
+    /// Group 2: the baked maps.
+    bake_layout: wgpu::BindGroupLayout,
+    /// Writes the looked-up bake values (`ao`, `irradiance`) as AOVs.
+    bake_aov_pipeline: wgpu::RenderPipeline,
     shadow_layout: wgpu::BindGroupLayout,
     shadow_sampler: wgpu::Sampler,
     culling: LightCulling,
@@ -250,6 +262,7 @@ pub struct ForwardRenderer {
 struct Frame<'a> {
     gpu: &'a SceneGpu,
     bind_group: &'a wgpu::BindGroup,
+    bakes: &'a wgpu::BindGroup,
     params: &'a PassParams,
     targets: &'a Targets,
     timer: &'a GpuTimer,
@@ -405,9 +418,10 @@ impl ForwardRenderer {
                 bind_group_layouts: &[Some(&shadow_layout)],
                 immediate_size: 0,
             });
+        let bake_layout = bake_layout(device);
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("penumbra forward"),
-            bind_group_layouts: &[Some(&layout), Some(&params_layout)],
+            bind_group_layouts: &[Some(&layout), Some(&params_layout), Some(&bake_layout)],
             immediate_size: 0,
         });
         let position_only = [Some(vec3_buffer(0))];
@@ -514,6 +528,13 @@ impl ForwardRenderer {
             compare: Some(wgpu::CompareFunction::GreaterEqual),
             ..Default::default()
         });
+        let bake_aov_pipeline = bake_aov_pipeline(
+            device,
+            &module,
+            &pipeline_layout,
+            depth_state(false, greater_equal, Default::default(), depth_format),
+            msaa,
+        );
         let volumes = (options.shadows == ShadowMode::Volume)
             .then(|| ShadowVolumes::new(device, &params_layout, depth_format, msaa));
         let planar = (options.shadows == ShadowMode::Planar)
@@ -528,6 +549,8 @@ impl ForwardRenderer {
             pipeline_layout,
             light_stencil,
             shading: Mutex::new(HashMap::new()),
+            bake_layout,
+            bake_aov_pipeline,
             shadow_layout,
             shadow_sampler,
             culling: LightCulling::new(device, msaa),
@@ -545,11 +568,17 @@ impl ForwardRenderer {
     }
 
     /// The forward and one-light pipelines for the material models in
-    /// `models` (a `1 << MODEL_*` mask), made once per mask.
-    fn shading_pipelines(&self, device: &wgpu::Device, models: u32) -> Arc<ShadingPipelines> {
+    /// `models` (a `1 << MODEL_*` mask), with or without bake lookups, made
+    /// once per key.
+    fn shading_pipelines(
+        &self,
+        device: &wgpu::Device,
+        models: u32,
+        baked: bool,
+    ) -> Arc<ShadingPipelines> {
         let mut cache = self.shading.lock().unwrap_or_else(|e| e.into_inner());
         cache
-            .entry(models)
+            .entry((models, baked))
             .or_insert_with(|| {
                 let shadow_maps = if self.options.shadows == ShadowMode::Map {
                     1.0
@@ -559,6 +588,7 @@ impl ForwardRenderer {
                 let constants = [
                     ("MATERIAL_MODELS", models as f64),
                     ("SHADOW_MAPS", shadow_maps),
+                    ("BAKED_MAPS", baked as u32 as f64),
                 ];
                 let add = wgpu::BlendComponent {
                     src_factor: wgpu::BlendFactor::One,
@@ -614,6 +644,7 @@ impl ForwardRenderer {
     ) {
         let (gpu, bind_group, params, targets, timer) =
             (f.gpu, f.bind_group, f.params, f.targets, f.timer);
+        let bakes = f.bakes;
         let light_count = gpu.light_count();
         {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -627,6 +658,7 @@ impl ForwardRenderer {
             pass.set_pipeline(&self.base_pipeline);
             pass.set_bind_group(0, bind_group, &[]);
             pass.set_bind_group(1, &params.bind_group, &[0]);
+            pass.set_bind_group(BAKE_GROUP, bakes, &[]);
             gpu.draw_all(&mut pass, true, 0);
         }
         for light in 0..light_count {
@@ -667,6 +699,7 @@ impl ForwardRenderer {
             pass.set_pipeline(&shading.light);
             pass.set_bind_group(0, bind_group, &[]);
             pass.set_bind_group(1, &params.bind_group, &[offset]);
+            pass.set_bind_group(BAKE_GROUP, bakes, &[]);
             pass.set_stencil_reference(0);
             gpu.draw_all(&mut pass, true, 0);
         }
@@ -724,6 +757,31 @@ impl ForwardRenderer {
         width: u32,
         height: u32,
     ) -> Result<RasterOutput, GpuError> {
+        self.render_baked(
+            ctx,
+            scene,
+            camera,
+            width,
+            height,
+            &BakedMaps::default(),
+            false,
+        )
+    }
+
+    /// Renders `scene` with baked maps (made for this scene: see
+    /// [`penumbra_bake::read_bake`]); with `aovs` also returns the looked-up
+    /// values ([`RasterOutput::aovs`]).
+    #[allow(clippy::too_many_arguments)]
+    pub fn render_baked(
+        &self,
+        ctx: &GpuContext,
+        scene: &Scene,
+        camera: &Camera,
+        width: u32,
+        height: u32,
+        bakes: &BakedMaps<'_>,
+        aovs: bool,
+    ) -> Result<RasterOutput, GpuError> {
         let start = Instant::now();
         let device = &ctx.device;
         let max_dim = device.limits().max_texture_dimension_2d;
@@ -733,9 +791,22 @@ impl ForwardRenderer {
             )));
         }
         let o = self.options;
-        let gpu = SceneGpu::upload(device, scene, camera, width, height);
-        let shading = self.shading_pipelines(device, gpu.data.model_mask());
+        if bakes.has_full_irradiance() && o.shadows != ShadowMode::None {
+            return Err(GpuError::Unsupported(
+                "a full light map already holds the direct light and its shadows; bake it with --indirect-only to add real-time lights and shadows".into(),
+            ));
+        }
+        if aovs && bakes.is_empty() {
+            return Err(GpuError::Unsupported(
+                "the raster engine's AOVs are the looked-up bake values (ao, irradiance): give --bake".into(),
+            ));
+        }
+        let baked = !bakes.is_empty();
+        let gpu = SceneGpu::upload(device, scene, camera, width, height, baked);
+        let shading = self.shading_pipelines(device, gpu.data.model_mask(), baked);
         let mut warnings = gpu.data.warnings.clone();
+        warnings.extend(bake_warnings(scene, bakes));
+        let lightmaps = LightmapFrame::new(ctx, &self.bake_layout, bakes, scene, &gpu.data)?;
         let light_count = gpu.light_count();
         let shadow_maps = ShadowMapFrame::new(
             device,
@@ -823,7 +894,7 @@ impl ForwardRenderer {
         } else {
             2
         };
-        let timer = GpuTimer::new(ctx, shadow_maps.layers + 4 + stencil_passes * light_count);
+        let timer = GpuTimer::new(ctx, shadow_maps.layers + 5 + stencil_passes * light_count);
 
         let readback = ImageReadback::new(device, width, height);
 
@@ -865,6 +936,7 @@ impl ForwardRenderer {
             pass.set_pipeline(&self.depth_pipeline);
             pass.set_bind_group(0, &bind_group, &[]);
             pass.set_bind_group(1, &params.bind_group, &[0]);
+            pass.set_bind_group(BAKE_GROUP, &lightmaps.bind_group, &[]);
             gpu.draw_all(&mut pass, false, 0);
         }
         if !has_stencil {
@@ -881,11 +953,13 @@ impl ForwardRenderer {
             pass.set_pipeline(&shading.forward);
             pass.set_bind_group(0, &bind_group, &[]);
             pass.set_bind_group(1, &params.bind_group, &[0]);
+            pass.set_bind_group(BAKE_GROUP, &lightmaps.bind_group, &[]);
             gpu.draw_all(&mut pass, true, 0);
         } else {
             let frame = Frame {
                 gpu: &gpu,
                 bind_group: &bind_group,
+                bakes: &lightmaps.bind_group,
                 params: &params,
                 targets: &targets,
                 timer: &timer,
@@ -900,6 +974,18 @@ impl ForwardRenderer {
                 planar_frame.as_ref(),
             );
         }
+        let aov_targets = aovs.then(|| {
+            let t = BakeAovTargets::new(device, width, height, o.msaa);
+            t.record(
+                &mut encoder,
+                &self.bake_aov_pipeline,
+                &gpu,
+                [&bind_group, &params.bind_group, &lightmaps.bind_group],
+                &targets,
+                &timer,
+            );
+            t
+        });
         timer.resolve(&mut encoder);
         LightCulling::record_stats_copy(&mut encoder, &culling);
         readback.record(&mut encoder, &targets.resolved);
@@ -909,6 +995,10 @@ impl ForwardRenderer {
         let frame_ms = frame_start.elapsed().as_secs_f64() * 1e3;
 
         let image = readback.read(ctx)?;
+        let aovs = match &aov_targets {
+            Some(t) => t.read(ctx)?,
+            None => Vec::new(),
+        };
         let passes = timer.read(ctx)?;
         let culling_stats = LightCulling::stats(ctx, &culling)?;
         Ok(RasterOutput {
@@ -918,7 +1008,184 @@ impl ForwardRenderer {
             passes,
             warnings,
             culling: culling_stats,
+            aovs,
         })
+    }
+}
+
+/// What the raster path approximates when it shows `bakes`.
+fn bake_warnings(scene: &Scene, bakes: &BakedMaps<'_>) -> Vec<String> {
+    let mut out = Vec::new();
+    if bakes.irradiance.is_some()
+        && scene
+            .materials
+            .iter()
+            .any(|m| !matches!(m.bsdf, penumbra_shading::bsdf::Bsdf::Lambert(_)))
+    {
+        out.push(
+            "raster: a light map gives diffuse light (c_diff · E / π); the glossy and specular lobes of non-Lambert materials get none of its light".to_string(),
+        );
+    }
+    if bakes.irradiance.is_some_and(|b| b.kind.indirect_only())
+        && scene.materials.iter().any(|m| m.is_emissive())
+    {
+        out.push(
+            "raster: with an indirect-only light map the direct light comes from the real-time lights, and emissive surfaces light nothing in real time: their direct light is missing".to_string(),
+        );
+    }
+    out
+}
+
+/// The pipeline of the bake AOV pass: the geometry again, depth-tested
+/// against the prepass, into two `Rgba32Float` targets (kA, E).
+fn bake_aov_pipeline(
+    device: &wgpu::Device,
+    module: &wgpu::ShaderModule,
+    layout: &wgpu::PipelineLayout,
+    depth: wgpu::DepthStencilState,
+    samples: u32,
+) -> wgpu::RenderPipeline {
+    let target = Some(wgpu::ColorTargetState {
+        format: COLOR_FORMAT,
+        blend: None,
+        write_mask: wgpu::ColorWrites::ALL,
+    });
+    let buffers = [Some(vec3_buffer(0)), Some(vec3_buffer(1))];
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some("bake aovs"),
+        layout: Some(layout),
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some("vs_main"),
+            compilation_options: Default::default(),
+            buffers: &buffers,
+        },
+        primitive: wgpu::PrimitiveState {
+            topology: wgpu::PrimitiveTopology::TriangleList,
+            front_face: wgpu::FrontFace::Ccw,
+            cull_mode: None,
+            ..Default::default()
+        },
+        depth_stencil: Some(depth),
+        multisample: wgpu::MultisampleState {
+            count: samples,
+            ..Default::default()
+        },
+        fragment: Some(wgpu::FragmentState {
+            module,
+            entry_point: Some("fs_bake_aovs"),
+            compilation_options: Default::default(),
+            targets: &[target.clone(), target],
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
+/// The targets of the bake AOV pass (multisampled and resolved when MSAA is
+/// on) and their readbacks.
+struct BakeAovTargets {
+    resolved: [wgpu::Texture; 2],
+    views: [wgpu::TextureView; 2],
+    multisampled: Option<[wgpu::TextureView; 2]>,
+    readbacks: [ImageReadback; 2],
+}
+
+impl BakeAovTargets {
+    const NAMES: [&'static str; 2] = ["ao", "irradiance"];
+
+    fn new(device: &wgpu::Device, width: u32, height: u32, msaa: u32) -> Self {
+        let texture = |label: &str, samples: u32, usage| {
+            device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size: wgpu::Extent3d {
+                    width,
+                    height,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: samples,
+                dimension: wgpu::TextureDimension::D2,
+                format: COLOR_FORMAT,
+                usage,
+                view_formats: &[],
+            })
+        };
+        let attach = wgpu::TextureUsages::RENDER_ATTACHMENT;
+        let resolved = Self::NAMES.map(|n| texture(n, 1, attach | wgpu::TextureUsages::COPY_SRC));
+        let views = [0, 1].map(|i| resolved[i].create_view(&Default::default()));
+        let multisampled = (msaa > 1).then(|| {
+            Self::NAMES.map(|n| texture(n, msaa, attach).create_view(&Default::default()))
+        });
+        Self {
+            resolved,
+            views,
+            multisampled,
+            readbacks: [0, 1].map(|_| ImageReadback::new(device, width, height)),
+        }
+    }
+
+    fn record(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        pipeline: &wgpu::RenderPipeline,
+        gpu: &SceneGpu,
+        groups: [&wgpu::BindGroup; 3],
+        targets: &Targets,
+        timer: &GpuTimer,
+    ) {
+        let attachment = |i: usize| {
+            let (view, resolve_target) = match &self.multisampled {
+                Some(ms) => (&ms[i], Some(&self.views[i])),
+                None => (&self.views[i], None),
+            };
+            Some(wgpu::RenderPassColorAttachment {
+                view,
+                depth_slice: None,
+                resolve_target,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                    store: wgpu::StoreOp::Store,
+                },
+            })
+        };
+        {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("bake aovs"),
+                color_attachments: &[attachment(0), attachment(1)],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &targets.depth_view,
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Load,
+                        store: wgpu::StoreOp::Store,
+                    }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: timer.render_pass("bake aovs"),
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_pipeline(pipeline);
+            for (g, group) in groups.iter().enumerate() {
+                if g == 1 {
+                    pass.set_bind_group(g as u32, *group, &[0]);
+                } else {
+                    pass.set_bind_group(g as u32, *group, &[]);
+                }
+            }
+            gpu.draw_all(&mut pass, true, 0);
+        }
+        for (r, t) in self.readbacks.iter().zip(&self.resolved) {
+            r.record(encoder, t);
+        }
+    }
+
+    fn read(&self, ctx: &GpuContext) -> Result<Vec<(String, Image)>, GpuError> {
+        self.readbacks
+            .iter()
+            .zip(Self::NAMES)
+            .map(|(r, n)| Ok((n.to_string(), r.read(ctx)?)))
+            .collect()
     }
 }
 
@@ -1012,9 +1279,11 @@ pub fn render_scene(
     width: u32,
     height: u32,
     options: RasterOptions,
+    bakes: &BakedMaps<'_>,
+    aovs: bool,
 ) -> Result<(RasterOutput, crate::AdapterSummary), GpuError> {
     let ctx = GpuContext::new()?;
     let renderer = ForwardRenderer::new(&ctx, options)?;
-    let out = renderer.render(&ctx, scene, camera, width, height)?;
+    let out = renderer.render_baked(&ctx, scene, camera, width, height, bakes, aovs)?;
     Ok((out, ctx.summary.clone()))
 }

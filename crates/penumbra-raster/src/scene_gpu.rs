@@ -196,12 +196,17 @@ impl SceneGpu {
         self.data.lights.len() as u32
     }
 
+    /// Uploads the frame's scene. With `unwelded`, every mesh is drawn as
+    /// separate triangles (vertex 3t + k is corner k of triangle t, the
+    /// index buffer 0, 1, 2, …), so `vertex_index` names the corner: the
+    /// layout of per-corner data such as the bakes' atlas coordinates.
     pub fn upload(
         device: &wgpu::Device,
         scene: &Scene,
         camera: &Camera,
         width: u32,
         height: u32,
+        unwelded: bool,
     ) -> Self {
         let data = SceneData::from_scene(scene);
         let bounds = scene
@@ -226,6 +231,13 @@ impl SceneGpu {
                 if m.indices.is_empty() || m.positions.is_empty() {
                     return None;
                 }
+                let unwelded_mesh;
+                let m = if unwelded {
+                    unwelded_mesh = unweld(m);
+                    &unwelded_mesh
+                } else {
+                    m
+                };
                 let vertex = wgpu::BufferUsages::VERTEX;
                 let flat = |v: &[Vec3]| v.iter().map(|p| p.to_array()).collect::<Vec<[f32; 3]>>();
                 Some(GpuMesh {
@@ -341,5 +353,26 @@ impl SceneGpu {
         pass.set_index_buffer(m.indices.slice(..), wgpu::IndexFormat::Uint32);
         let i = instance_base + instance;
         pass.draw_indexed(0..m.index_count, 0, i..i + 1);
+    }
+}
+
+/// `mesh` as separate triangles: corner k of triangle t is vertex 3t + k.
+fn unweld(mesh: &penumbra_scene::Mesh) -> penumbra_scene::Mesh {
+    let corners = |v: &[Vec3]| -> Vec<Vec3> {
+        mesh.indices
+            .iter()
+            .flat_map(|t| t.map(|i| v[i as usize]))
+            .collect()
+    };
+    penumbra_scene::Mesh {
+        name: mesh.name.clone(),
+        positions: corners(&mesh.positions),
+        normals: mesh.normals.as_deref().map(corners),
+        uv0: None,
+        uv1: None,
+        indices: (0..mesh.indices.len() as u32)
+            .map(|t| [3 * t, 3 * t + 1, 3 * t + 2])
+            .collect(),
+        material: mesh.material,
     }
 }

@@ -29,6 +29,10 @@ pub const SCENE_WGSL: &str = include_str!("shaders/scene.wgsl");
 /// map), without the library.
 pub const FORWARD_WGSL: &str = include_str!("shaders/forward.wgsl");
 
+/// Baked maps looked up by the geometry passes (group 2), and the pass that
+/// writes the looked-up values as AOVs.
+pub const LIGHTMAP_WGSL: &str = include_str!("passes/lightmap/lightmap.wgsl");
+
 /// Tiled light culling (compute).
 pub const LIGHT_CULLING_WGSL: &str = include_str!("shaders/light_culling.wgsl");
 
@@ -42,9 +46,13 @@ pub const SHADOW_VOLUME_DRAW_WGSL: &str = include_str!("shaders/shadow_volume_dr
 /// Planar projected shadows (receiver marking, projected occluders).
 pub const PLANAR_SHADOW_WGSL: &str = include_str!("shaders/planar_shadow.wgsl");
 
-/// The complete forward shader module: library + structs + pass.
+/// The complete forward shader module: library + structs + pass + baked
+/// maps.
 pub fn forward_source() -> String {
-    format!("{}\n{SCENE_WGSL}\n{FORWARD_WGSL}", library())
+    format!(
+        "{}\n{SCENE_WGSL}\n{FORWARD_WGSL}\n{LIGHTMAP_WGSL}",
+        library()
+    )
 }
 
 /// The light-culling module for a single- or multisampled depth buffer.

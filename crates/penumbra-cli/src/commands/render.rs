@@ -77,6 +77,11 @@ pub struct RenderArgs {
     /// shadows) [default: 1].
     #[arg(long, value_parser = parse_pcf, allow_negative_numbers = true)]
     pub pcf: Option<u32>,
+    /// Raster engine: show a bake directory (`penumbra bake ...`): an AO
+    /// bake multiplies the ambient light, a light map or radiosity bake
+    /// gives the diffuse light. Repeat for an AO bake and an irradiance bake.
+    #[arg(long)]
+    pub bake: Vec<PathBuf>,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -177,6 +182,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
         bail!("--msaa applies to --engine raster only");
     }
     for (set, flag) in [
+        (!args.bake.is_empty(), "--bake"),
         (args.shadows.is_some(), "--shadows"),
         (args.shadow_map_size.is_some(), "--shadow-map-size"),
         (args.pcf.is_some(), "--pcf"),
@@ -243,9 +249,17 @@ fn render_raster(
     settings: &RenderSettings,
     tm: &ToneMapping,
 ) -> Result<()> {
-    if args.aovs {
-        bail!("--aovs is not available with --engine raster yet");
+    if args.aovs && args.bake.is_empty() {
+        bail!(
+            "--aovs with --engine raster writes the looked-up bake values (ao, irradiance): give --bake DIR"
+        );
     }
+    let bakes: Vec<penumbra_bake::LoadedBake> = args
+        .bake
+        .iter()
+        .map(|dir| penumbra_bake::read_bake(dir, scene))
+        .collect::<Result<_, _>>()?;
+    let maps = penumbra_raster::BakedMaps::from_bakes(&bakes)?;
     if args.integrator.is_some_and(|i| i != IntegratorKind::Local) {
         eprintln!(
             "penumbra: warning: --engine raster shades like --integrator local (direct light from the abstract lights; shadows only with --shadows map|planar|volume); --integrator is ignored"
@@ -268,11 +282,15 @@ fn render_raster(
             pcf: args.pcf.unwrap_or(1),
             ..Default::default()
         },
+        &maps,
+        args.aovs,
     )?;
     for w in &out.warnings {
         eprintln!("penumbra: warning: {w}");
     }
-    write_image(&args.output, &out.image, &[], tm)
+    let aovs: Vec<(&str, &penumbra_image::Image)> =
+        out.aovs.iter().map(|(n, i)| (n.as_str(), i)).collect();
+    write_image(&args.output, &out.image, &aovs, tm)
         .with_context(|| format!("writing {}", args.output.display()))?;
     let gpu: String = penumbra_raster::timing::by_kind(&out.passes)
         .iter()

@@ -8,7 +8,8 @@
 //  - vs_main + fs_light: one light (params.light), added where the stencil
 //    says the light is not shadowed (shadow volumes, planar shadows);
 //  - vs_shadow: the depth-only shadow-map passes.
-// Appended to shading.wgsl + scene.wgsl.
+// Baked maps (ambient occlusion, irradiance) come from lightmap.wgsl.
+// Appended to shading.wgsl + scene.wgsl, followed by lightmap.wgsl.
 
 @group(0) @binding(0) var<uniform> camera: GpuCamera;
 @group(0) @binding(1) var<storage, read> instances: array<GpuInstance>;
@@ -95,6 +96,9 @@ struct VsOut {
     @location(0) world: vec3<f32>,
     @location(1) normal: vec3<f32>,
     @location(2) @interpolate(flat) instance: u32,
+    // Atlas coordinates of the AO and irradiance bakes (lightmap.wgsl).
+    @location(3) ao_uv: vec2<f32>,
+    @location(4) irradiance_uv: vec2<f32>,
 }
 
 // Depth prepass: the same clip position as vs_main (both @invariant), so
@@ -108,11 +112,15 @@ fn vs_depth(
     return camera.view_proj * vec4<f32>(world, 1.0);
 }
 
+// With bakes the meshes are drawn unwelded (vertex 3t + k is corner k of
+// triangle t), so vertex_index is the corner the bakes' coordinates are
+// stored for.
 @vertex
 fn vs_main(
     @location(0) position: vec3<f32>,
     @location(1) normal: vec3<f32>,
     @builtin(instance_index) instance: u32,
+    @builtin(vertex_index) corner: u32,
 ) -> VsOut {
     let inst = instances[instance];
     let world = world_point(inst.model, position);
@@ -121,6 +129,8 @@ fn vs_main(
     out.world = world;
     out.normal = (inst.normal * vec4<f32>(normal, 0.0)).xyz;
     out.instance = instance;
+    out.ao_uv = ao_corner_uv(instance, corner);
+    out.irradiance_uv = irradiance_corner_uv(instance, corner);
     return out;
 }
 
@@ -245,7 +255,12 @@ fn fs_forward(in: VsOut, @builtin(front_facing) facing: bool) -> @location(0) ve
     if s.lit == 0u {
         return vec4<f32>(radiance, 1.0);
     }
-    radiance += ambient[s.material].xyz;
+    let baked = baked_light(s, in);
+    radiance += baked.radiance;
+    if !baked.realtime {
+        return vec4<f32>(radiance, 1.0);
+    }
+    radiance += ambient[s.material].xyz * baked_ao(in, 1.0);
     var count = TILE_OVERFLOW;
     var base = 0u;
     if culling.enabled != 0u {
@@ -271,7 +286,12 @@ fn fs_base(in: VsOut, @builtin(front_facing) facing: bool) -> @location(0) vec4<
     if s.lit == 0u {
         return vec4<f32>(s.emission, 1.0);
     }
-    return vec4<f32>(s.emission + ambient[s.material].xyz, 1.0);
+    let baked = baked_light(s, in);
+    var radiance = s.emission + baked.radiance;
+    if baked.realtime {
+        radiance += ambient[s.material].xyz * baked_ao(in, 1.0);
+    }
+    return vec4<f32>(radiance, 1.0);
 }
 
 @fragment

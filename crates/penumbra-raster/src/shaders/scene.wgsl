@@ -105,6 +105,26 @@ struct GpuReceiver {
     _pad2: f32,
 }
 
+// Where one instance's light-map texels lie in one bake: the atlas
+// coordinate of mesh corner c is uv_min + corner_uvs[first_corner + c] *
+// (uv_max - uv_min), on array layer `page`; valid = 0: no texels.
+struct GpuBakeInstance {
+    uv_min: vec2<f32>,
+    uv_max: vec2<f32>,
+    first_corner: u32,
+    page: u32,
+    valid: u32,
+    _pad0: u32,
+}
+
+// Which bakes the frame shows (1 = present).
+struct GpuBakeParams {
+    ao: u32,
+    irradiance: u32,
+    indirect_only: u32,
+    _pad0: u32,
+}
+
 // World position of an object-space point. Every pass that must agree on
 // depth with another (prepass, shading, stencil marking) computes clip
 // positions as view_proj * vec4(world_point(..), 1) with @invariant.

@@ -1,0 +1,3 @@
+//! Raster techniques, one folder each: the pass's Rust beside its WGSL.
+
+pub mod lightmap;
