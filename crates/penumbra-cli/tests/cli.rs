@@ -466,3 +466,150 @@ fn raster_bench_reports_each_pass_per_light_count() {
     assert!(!o.status.success());
     assert!(stderr(&o).contains("--engine trace only"), "{}", stderr(&o));
 }
+
+fn cornell_toml() -> String {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../scenes/cornell-box.toml")
+        .display()
+        .to_string()
+}
+
+/// `penumbra bake`: bad settings fail before baking and write nothing; a
+/// good bake writes a directory that `info --bake` describes and the raster
+/// engine shows (GPU part skipped with PENUMBRA_SKIP_GPU=1).
+#[test]
+fn bake_round_trip_and_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let cases: &[(&[&str], &str)] = &[
+        (&["bake", "ao", "-o", "b", "--samples", "0"], "--samples"),
+        (
+            &["bake", "lightmap", "-o", "b", "--texels-per-unit", "-1"],
+            "texels per unit",
+        ),
+        (
+            &["bake", "lightmap", "-o", "b", "--texels-per-unit", "1e6"],
+            "8192x8192",
+        ),
+        (
+            &["bake", "ao", "-o", "b", "--ao-distance", "0"],
+            "positive distance",
+        ),
+        (
+            &["bake", "ao", "-o", "b", "--max-size", "4"],
+            "atlas size 4",
+        ),
+        (
+            &["bake", "radiosity", "-o", "b", "--tolerance", "2"],
+            "between 0 and 1",
+        ),
+        (&["bake", "ao", "-o", "missing/b"], "does not exist"),
+        (&["bake", "ao", "-o", "b", "--gltf", "out.gltf"], ".glb"),
+        (&["bake", "ao", "no-such.toml", "-o", "b"], "no-such.toml"),
+        (
+            &[
+                "render", "--engine", "raster", "--bake", "nowhere", "-o", "a.png",
+            ],
+            "nowhere",
+        ),
+        (
+            &["render", "--bake", "nowhere", "-o", "a.png"],
+            "--engine raster",
+        ),
+        (&["info", "--bake", "nowhere"], "nowhere"),
+    ];
+    for (args, expected) in cases {
+        let o = penumbra(args, d);
+        assert!(!o.status.success(), "{args:?} should fail");
+        assert!(
+            stderr(&o).contains(expected),
+            "{args:?}: '{expected}' not in:\n{}",
+            stderr(&o)
+        );
+        assert!(!stderr(&o).contains("panicked"), "{args:?} panicked");
+        assert!(
+            files_in(d).is_empty(),
+            "{args:?} left files: {:?}",
+            files_in(d)
+        );
+    }
+    let scene = cornell_toml();
+    let o = penumbra(
+        &[
+            "bake",
+            "ao",
+            &scene,
+            "-o",
+            "ao",
+            "--max-size",
+            "48",
+            "--samples",
+            "8",
+            "--ao-distance",
+            "80",
+        ],
+        d,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(files_in(d), ["ao"]);
+    assert_eq!(
+        files_in(&d.join("ao")),
+        ["manifest.json", "total-0.exr", "uvs.bin"]
+    );
+    let o = penumbra(&["info", &scene, "--bake", "ao"], d);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", stderr(&o));
+    for needle in ["kind:       ao", "AO distance 80", "fits:"] {
+        assert!(out.contains(needle), "'{needle}' not in:\n{out}");
+    }
+    // The bake does not fit another scene.
+    let other = reference("spheres-direct", "spheres-direct.gltf");
+    let o = penumbra(&["info", &other, "--bake", "ao"], d);
+    assert!(
+        !o.status.success() && stderr(&o).contains("another scene"),
+        "{}",
+        stderr(&o)
+    );
+    if std::env::var("PENUMBRA_SKIP_GPU").is_ok_and(|v| v == "1") {
+        eprintln!("note: bake display skipped because PENUMBRA_SKIP_GPU=1");
+        return;
+    }
+    let o = penumbra(
+        &[
+            "render", &other, "--engine", "raster", "--bake", "ao", "-o", "x.png",
+        ],
+        d,
+    );
+    assert!(
+        !o.status.success() && stderr(&o).contains("another scene"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!d.join("x.png").exists());
+    let o = penumbra(
+        &[
+            "render",
+            &scene,
+            "--engine",
+            "raster",
+            "--bake",
+            "ao",
+            "--aovs",
+            "--resolution",
+            "64x64",
+            "-o",
+            "r.exr",
+        ],
+        d,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let layers = penumbra_image::read_exr_layers(&d.join("r.exr")).unwrap();
+    let ao = &layers
+        .aovs
+        .iter()
+        .find(|(n, _)| n == "ao")
+        .expect("ao layer")
+        .1;
+    let mean = ao.mean().x;
+    assert!(mean > 0.2 && mean < 1.0, "mean kA {mean}");
+}

@@ -77,6 +77,15 @@ pub struct BenchArgs {
     /// the baseline culling is measured against.
     #[arg(long)]
     pub no_light_culling: bool,
+    /// Raster: also measure every light count showing these bake
+    /// directories (made for SCENE). Trace: `--bake` alone measures the
+    /// bakes' ray throughput beside the path tracer's on SCENE (default:
+    /// the built-in Cornell box), in one run.
+    #[arg(long, num_args = 0..)]
+    pub bake: Option<Vec<PathBuf>>,
+    /// With --bake (trace): patch counts of the radiosity timings.
+    #[arg(long, value_delimiter = ',', default_value = "1000,4000,16000")]
+    pub patches: Vec<u32>,
 }
 
 /// A scene of `meshes` in grey, lit by a sun, framed by the camera.
@@ -151,6 +160,14 @@ pub fn run(args: BenchArgs) -> Result<()> {
     if args.engine == Engine::Raster {
         return run_raster(&args);
     }
+    if let Some(dirs) = &args.bake {
+        if !dirs.is_empty() {
+            bail!(
+                "--bake DIR applies to --engine raster; for the bake throughput give --bake alone"
+            );
+        }
+        return crate::commands::bench_bake::run(args);
+    }
     let triangles = args.triangles.unwrap_or(1_000_000) as usize;
     if let Some(out) = &args.write_mesh {
         let mesh = bench_mesh(triangles);
@@ -219,6 +236,12 @@ fn run_raster(args: &BenchArgs) -> Result<()> {
             ..Default::default()
         },
         json: args.json,
+        bakes: args
+            .bake
+            .iter()
+            .flatten()
+            .map(|dir| penumbra_bake::read_bake(dir, &scene))
+            .collect::<Result<_, _>>()?,
     };
     bench_raster::run(&bench, &scene)
 }

@@ -6,7 +6,7 @@
 
 use anyhow::{Result, bail};
 use glam::{Mat4, Vec2, Vec3};
-use penumbra_raster::{ForwardRenderer, GpuContext, PassTiming, RasterOptions};
+use penumbra_raster::{BakedMaps, ForwardRenderer, GpuContext, PassTiming, RasterOptions};
 use penumbra_scene::{Camera, Material, Projection, Scene, SceneLight, primitives};
 use penumbra_shading::Rgb;
 use penumbra_shading::light::{Light, PointLight};
@@ -24,6 +24,9 @@ pub struct RasterBench {
     pub frames: u32,
     pub options: RasterOptions,
     pub json: bool,
+    /// Bakes to show (`--bake`): each light count is then measured without
+    /// and with them, in the same run.
+    pub bakes: Vec<penumbra_bake::LoadedBake>,
 }
 
 /// The generated raster bench scene: the bumpy bench sphere (radius ≈ 1,
@@ -184,57 +187,81 @@ pub fn run(bench: &RasterBench, scene: &Scene) -> Result<()> {
             }
         );
     }
+    let with_bakes = BakedMaps::from_bakes(&bench.bakes)?;
+    let variants: Vec<(&str, BakedMaps<'_>)> = if bench.bakes.is_empty() {
+        vec![("", BakedMaps::default())]
+    } else {
+        vec![
+            ("without bakes", BakedMaps::default()),
+            ("with bakes", with_bakes),
+        ]
+    };
     for &count in &bench.light_counts {
-        let mut lit = scene.clone();
-        if count > 0 {
-            lit.lights = generated_lights(scene, count);
-        }
-        let lights = lit.lights.len();
-        let mut frame_ms = Vec::new();
-        let mut passes = Vec::new();
-        // Warm-up: pipeline caches, first-use allocations.
-        let culling = probe
-            .render(&ctx, &lit, &camera, bench.width, bench.height)?
-            .culling;
-        renderer.render(&ctx, &lit, &camera, bench.width, bench.height)?;
-        for _ in 0..bench.frames {
-            let out = renderer.render(&ctx, &lit, &camera, bench.width, bench.height)?;
-            frame_ms.push(out.frame_ms);
-            passes.push(out.passes);
-        }
-        let frame = median(&mut frame_ms);
-        let kinds = median_by_kind(&passes);
-        if bench.json {
-            let fields: String = kinds
-                .iter()
-                .map(|(k, n, ms)| {
+        for (label, maps) in &variants {
+            let mut lit = scene.clone();
+            if count > 0 {
+                lit.lights = generated_lights(scene, count);
+            }
+            let lights = lit.lights.len();
+            let mut frame_ms = Vec::new();
+            let mut passes = Vec::new();
+            let (w, h) = (bench.width, bench.height);
+            // Warm-up: pipeline caches, first-use allocations.
+            let culling = probe
+                .render_baked(&ctx, &lit, &camera, w, h, maps, false)?
+                .culling;
+            renderer.render_baked(&ctx, &lit, &camera, w, h, maps, false)?;
+            for _ in 0..bench.frames {
+                let out = renderer.render_baked(&ctx, &lit, &camera, w, h, maps, false)?;
+                frame_ms.push(out.frame_ms);
+                passes.push(out.passes);
+            }
+            let frame = median(&mut frame_ms);
+            let kinds = median_by_kind(&passes);
+            if bench.json {
+                let fields: String = kinds
+                    .iter()
+                    .map(|(k, n, ms)| {
+                        format!(
+                            ",\"{k}\":{{\"passes\":{n},\"ms\":{ms:.4},\"ms_each\":{:.4}}}",
+                            ms / *n as f64
+                        )
+                    })
+                    .collect();
+                let tiles = culling.as_ref().map_or(String::new(), |c| {
                     format!(
-                        ",\"{k}\":{{\"passes\":{n},\"ms\":{ms:.4},\"ms_each\":{:.4}}}",
-                        ms / *n as f64
+                        ",\"lights_per_tile\":{{\"mean\":{:.2},\"max\":{},\"overflowed\":{}}}",
+                        c.mean_lights, c.max_lights, c.overflowed
                     )
-                })
-                .collect();
-            let tiles = culling.as_ref().map_or(String::new(), |c| {
-                format!(
-                    ",\"lights_per_tile\":{{\"mean\":{:.2},\"max\":{},\"overflowed\":{}}}",
-                    c.mean_lights, c.max_lights, c.overflowed
-                )
-            });
-            println!("{{\"lights\":{lights},\"frame_ms\":{frame:.4}{fields}{tiles}}}");
-        } else {
-            let tiles = culling.as_ref().map_or(String::new(), |c| {
+                });
+                let bakes = if label.is_empty() {
+                    String::new()
+                } else {
+                    format!(",\"bakes\":{}", !maps.is_empty())
+                };
+                println!("{{\"lights\":{lights}{bakes},\"frame_ms\":{frame:.4}{fields}{tiles}}}");
+            } else {
+                let tiles = culling.as_ref().map_or(String::new(), |c| {
                 format!(
                     "; tiled culling: {:.1} lights per tile on average (max {}, {} of {} tiles overflowed)",
                     c.mean_lights, c.max_lights, c.overflowed, c.tiles
                 )
             });
-            println!("{lights} light(s): frame {frame:.2} ms (wall, submit to idle){tiles}");
-            for (kind, n, ms) in kinds {
-                if n > 1 {
-                    let label = format!("{kind} ×{n}");
-                    println!("  {label:<28} {ms:>10.3} ms ({:.3} ms each)", ms / n as f64);
+                let label = if label.is_empty() {
+                    String::new()
                 } else {
-                    println!("  {kind:<28} {ms:>10.3} ms");
+                    format!(", {label}")
+                };
+                println!(
+                    "{lights} light(s){label}: frame {frame:.2} ms (wall, submit to idle){tiles}"
+                );
+                for (kind, n, ms) in kinds {
+                    if n > 1 {
+                        let label = format!("{kind} ×{n}");
+                        println!("  {label:<28} {ms:>10.3} ms ({:.3} ms each)", ms / n as f64);
+                    } else {
+                        println!("  {kind:<28} {ms:>10.3} ms");
+                    }
                 }
             }
         }

@@ -13,17 +13,131 @@ pub struct InfoArgs {
     /// Print the GPU adapter the raster engine uses (name, backend, type, driver).
     #[arg(long)]
     pub gpu: bool,
+    /// Describe a bake directory (`penumbra bake ...`): what it holds, its
+    /// atlas, settings and figures; with SCENE, also whether it fits it.
+    #[arg(long)]
+    pub bake: Option<PathBuf>,
 }
 
 pub fn run(args: InfoArgs) -> Result<()> {
     if args.gpu {
         print_gpu()?;
     }
+    if let Some(dir) = &args.bake {
+        return print_bake(dir, args.scene.as_deref());
+    }
     match &args.scene {
         Some(path) => print_scene(path),
         None if args.gpu => Ok(()),
-        None => bail!("give a SCENE file, or --gpu for the GPU adapter"),
+        None => bail!("give a SCENE file, --bake DIR, or --gpu for the GPU adapter"),
     }
+}
+
+/// What a bake directory holds (its manifest), and with a scene, whether it
+/// was made for it (reading every page as the raster engine would).
+fn print_bake(dir: &std::path::Path, scene: Option<&std::path::Path>) -> Result<()> {
+    let path = dir.join(penumbra_bake::manifest::MANIFEST_FILE);
+    let text = std::fs::read_to_string(&path).map_err(|e| {
+        anyhow::anyhow!(
+            "{}: cannot read the manifest ({e}); is this a bake directory?",
+            path.display()
+        )
+    })?;
+    let m = penumbra_bake::Manifest::parse(&path, &text)?;
+    let s = &m.settings;
+    println!(
+        "bake:       {} ({} v{})",
+        dir.display(),
+        m.format,
+        m.version
+    );
+    println!("kind:       {}: {}", m.kind, m.quantity);
+    println!("units:      {}", m.units);
+    println!(
+        "scene:      {} ({} instances, {} triangles, geometry {})",
+        m.scene.file.as_deref().unwrap_or("(not recorded)"),
+        m.scene.instances,
+        m.scene.triangles,
+        m.scene.geometry_hash
+    );
+    let mut settings = vec![format!("{} samples", s.samples), format!("seed {}", s.seed)];
+    match m.kind.as_str() {
+        "ao" => settings.push(match s.ao_distance {
+            Some(d) => format!("AO distance {d}"),
+            None => "AO distance unlimited".into(),
+        }),
+        "lightmap" => {
+            settings.push(format!("{} bounces", s.bounces.unwrap_or(0)));
+            if s.indirect_only {
+                settings.push("indirect light only".into());
+            }
+        }
+        _ => {
+            settings.push(format!("{} patches", s.patches.unwrap_or(0)));
+            settings.push(format!("tolerance {}", s.tolerance.unwrap_or(0.0)));
+        }
+    }
+    println!("settings:   {}", settings.join(", "));
+    let a = &m.atlas;
+    println!(
+        "atlas:      {} page(s) of {}x{} texels, {:.4} texels per unit, padding {}, {} charts, {:.0} % of the texels covered",
+        a.pages,
+        a.width,
+        a.height,
+        a.texels_per_unit,
+        a.padding,
+        a.charts,
+        100.0 * a.utilization
+    );
+    let generated = m
+        .instances
+        .iter()
+        .filter(|i| i.uv_source == "generated")
+        .count();
+    println!(
+        "instances:  {} with texels ({} generated layouts, {} from TEXCOORD_1)",
+        m.instances.len(),
+        generated,
+        m.instances.len() - generated
+    );
+    println!(
+        "texels:     {} covered, {} baked, {} inside geometry (filled by dilation)",
+        m.texels.covered, m.texels.valid, m.texels.invalid
+    );
+    for map in &m.maps {
+        println!(
+            "map:        {} ({}): {}",
+            map.name,
+            map.light.as_deref().unwrap_or("all lights"),
+            map.pages.join(", ")
+        );
+    }
+    let t = &m.timing;
+    println!(
+        "timing:     {:.2} s baking ({:.2} Mrays/s, {} rays), {:.2} s atlas and BVH",
+        t.bake_seconds,
+        t.rays_per_second / 1e6,
+        t.rays,
+        t.prepare_seconds
+    );
+    if let Some(c) = &m.convergence {
+        println!(
+            "radiosity:  {} iterations, unshot power {:.2e} of the emitted power ({}, {})",
+            c.iterations, c.final_unshot_fraction, c.csv, c.plot
+        );
+    }
+    for w in &m.warnings {
+        println!("warning:    {w}");
+    }
+    if let Some(scene_path) = scene {
+        let scene = load_scene(scene_path)?;
+        penumbra_bake::read_bake(dir, &scene)?;
+        println!(
+            "fits:       {} (geometry hash and every page checked)",
+            scene_path.display()
+        );
+    }
+    Ok(())
 }
 
 /// The adapter `penumbra render --engine raster` picks.
