@@ -21,6 +21,10 @@ pub fn convergence_csv(steps: &[ConvergenceStep]) -> String {
     out
 }
 
+/// Most points the plot draws; longer records are thinned evenly (the
+/// CSV keeps every step).
+const MAX_PLOTTED: usize = 2000;
+
 /// The unshot fraction against the iteration, log-scaled, as an SVG
 /// document.
 pub fn convergence_svg(steps: &[ConvergenceStep]) -> String {
@@ -53,9 +57,14 @@ pub fn convergence_svg(steps: &[ConvergenceStep]) -> String {
             .x_desc("iteration (shots)")
             .y_desc("unshot fraction")
             .draw()?;
+        let stride = steps.len().div_ceil(MAX_PLOTTED).max(1);
+        let thinned = steps
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| i % stride == 0 || i + 1 == steps.len())
+            .map(|(_, s)| s);
         chart.draw_series(LineSeries::new(
-            steps
-                .iter()
+            thinned
                 .filter(|s| s.unshot_fraction > 0.0)
                 .map(|s| (s.iteration, s.unshot_fraction)),
             &BLUE,
