@@ -13,4 +13,17 @@ if command -v apt-get >/dev/null 2>&1 && ! dpkg -s mesa-vulkan-drivers >/dev/nul
   $SUDO apt-get install -y -qq mesa-vulkan-drivers libvulkan1 >/dev/null || echo "warning: could not install mesa-vulkan-drivers" >&2
 fi
 
+# The glTF export test checks its files with the Khronos glTF validator (npm
+# package gltf-validator, pinned with its lock file in tools/gltf-validator/);
+# install it with npm when missing. Without npm the test fails and says so
+# (PENUMBRA_SKIP_GLTF_VALIDATOR=1 skips that check).
+if [ ! -f tools/gltf-validator/node_modules/gltf-validator/package.json ]; then
+  if command -v npm >/dev/null 2>&1; then
+    npm ci --prefix tools/gltf-validator --no-audit --no-fund --loglevel=error >/dev/null \
+      || echo "warning: could not install the glTF validator (npm ci in tools/gltf-validator); the glTF export test will fail" >&2
+  else
+    echo "warning: npm not found: the Khronos glTF validator is not installed and the glTF export test will fail (install Node.js and npm, or set PENUMBRA_SKIP_GLTF_VALIDATOR=1)" >&2
+  fi
+fi
+
 cargo test --workspace --locked "$@"

@@ -552,6 +552,27 @@ fn bake_round_trip_and_errors() {
     );
     assert!(o.status.success(), "{}", stderr(&o));
     assert_eq!(files_in(d), ["ao"]);
+    let o = penumbra(
+        &[
+            "bake",
+            "ao",
+            &scene,
+            "-o",
+            "ao-gltf",
+            "--max-size",
+            "32",
+            "--samples",
+            "2",
+            "--gltf",
+            "cornell.glb",
+        ],
+        d,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let glb = std::fs::read(d.join("cornell.glb")).unwrap();
+    assert_eq!(&glb[..4], b"glTF");
+    std::fs::remove_dir_all(d.join("ao-gltf")).unwrap();
+    std::fs::remove_file(d.join("cornell.glb")).unwrap();
     assert_eq!(
         files_in(&d.join("ao")),
         ["manifest.json", "total-0.exr", "uvs.bin"]

@@ -292,7 +292,9 @@ pub fn run(args: BakeArgs) -> Result<()> {
     if let BakeCommand::Ao(a) = &args.what
         && let Some(g) = &a.gltf
     {
-        penumbra_bake::gltf_export::write_glb(&bake, &scene, g)?;
+        for w in penumbra_bake::gltf_export::write_glb_with_warnings(&bake, &scene, g)? {
+            eprintln!("penumbra: warning: glTF export: {w}");
+        }
         eprintln!(
             "penumbra: glTF with the AO as occlusionTexture -> {}",
             g.display()
