@@ -5,7 +5,7 @@
 //! and a rendered pixel at the same point have the same expectation.
 
 use crate::atlas::AtlasSettings;
-use crate::baked::{Bake, BakeKind, BakeStats, BakedMap};
+use crate::baked::{Bake, BakeKind, BakedMap};
 use crate::baker::{BakeProgress, Prepared};
 use crate::error::BakeError;
 use penumbra_image::Rgb;
@@ -67,31 +67,22 @@ pub fn bake_ao(
     );
     let bake_seconds = t0.elapsed().as_secs_f64();
     let (pages, variance) = maps.remove(0);
-    let (valid, invalid) = prep.counts();
-    Ok(Bake {
-        kind: BakeKind::Ao {
+    let map = BakedMap {
+        name: "total".into(),
+        light: None,
+        pages,
+        variance,
+    };
+    let rays = penumbra_trace::stats::rays_traced() - rays0;
+    Ok(prep.finish(
+        BakeKind::Ao {
             distance: settings.distance,
         },
-        samples: settings.samples,
-        seed: settings.seed,
-        coverage: prep.coverage(),
-        maps: vec![BakedMap {
-            name: "total".into(),
-            light: None,
-            pages,
-            variance,
-        }],
-        stats: BakeStats {
-            prepare_seconds: prep.atlas_seconds,
-            bake_seconds,
-            rays: penumbra_trace::stats::rays_traced() - rays0,
-            covered: prep.texels.texels.len() as u64,
-            valid,
-            invalid,
-        },
-        warnings: Vec::new(),
-        convergence: Vec::new(),
-        atlas: prep.atlas,
-        texels: prep.texels,
-    })
+        settings.samples,
+        settings.seed,
+        vec![map],
+        bake_seconds,
+        rays,
+        Vec::new(),
+    ))
 }

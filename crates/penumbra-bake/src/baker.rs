@@ -4,6 +4,7 @@
 //! "pixel" (x, y + p·H), whatever the thread count), and dilation.
 
 use crate::atlas::{Atlas, AtlasSettings};
+use crate::baked::{Bake, BakeKind, BakeStats, BakedMap};
 use crate::dilate::{TexelState, dilate};
 use crate::error::BakeError;
 use crate::texels::{Texel, Texels};
@@ -211,6 +212,41 @@ impl<'a> Prepared<'a> {
                 (means, variances)
             })
             .collect()
+    }
+
+    /// The finished texel bake: its maps with the atlas, texels, coverage
+    /// and the figures of the estimation (`rays` traced in `bake_seconds`).
+    #[allow(clippy::too_many_arguments)]
+    pub fn finish(
+        self,
+        kind: BakeKind,
+        samples: u32,
+        seed: u32,
+        maps: Vec<BakedMap>,
+        bake_seconds: f64,
+        rays: u64,
+        warnings: Vec<String>,
+    ) -> Bake {
+        let (valid, invalid) = self.counts();
+        Bake {
+            kind,
+            samples,
+            seed,
+            coverage: self.coverage(),
+            maps,
+            stats: BakeStats {
+                prepare_seconds: self.atlas_seconds,
+                bake_seconds,
+                rays,
+                covered: self.texels.texels.len() as u64,
+                valid,
+                invalid,
+            },
+            warnings,
+            convergence: Vec::new(),
+            atlas: self.atlas,
+            texels: self.texels,
+        }
     }
 
     /// The `coverage` layer of each page ([`TexelState::coverage`]).

@@ -8,7 +8,7 @@
 //! `L = Le + c E / π`, and the maps of several lights add up.
 
 use crate::atlas::AtlasSettings;
-use crate::baked::{Bake, BakeKind, BakeStats, BakedMap};
+use crate::baked::{Bake, BakeKind, BakedMap};
 use crate::baker::{BakeProgress, Prepared};
 use crate::error::BakeError;
 use penumbra_image::Rgb;
@@ -136,7 +136,6 @@ pub fn bake_lightmap(
         },
     );
     let bake_seconds = t0.elapsed().as_secs_f64();
-    let (valid, invalid) = prep.counts();
     let maps = maps
         .into_iter()
         .enumerate()
@@ -151,26 +150,17 @@ pub fn bake_lightmap(
             variance,
         })
         .collect();
-    Ok(Bake {
-        kind: BakeKind::Lightmap {
+    let rays = penumbra_trace::stats::rays_traced() - rays0;
+    Ok(prep.finish(
+        BakeKind::Lightmap {
             bounces: settings.bounces,
             indirect_only: settings.indirect_only,
         },
-        samples: settings.samples,
-        seed: settings.seed,
-        coverage: prep.coverage(),
+        settings.samples,
+        settings.seed,
         maps,
-        stats: BakeStats {
-            prepare_seconds: prep.atlas_seconds,
-            bake_seconds,
-            rays: penumbra_trace::stats::rays_traced() - rays0,
-            covered: prep.texels.texels.len() as u64,
-            valid,
-            invalid,
-        },
+        bake_seconds,
+        rays,
         warnings,
-        convergence: Vec::new(),
-        atlas: prep.atlas,
-        texels: prep.texels,
-    })
+    ))
 }

@@ -13,6 +13,22 @@ pub(super) struct SplitMesh {
     pub(super) triangles: Vec<[u32; 3]>,
 }
 
+impl MeshAccessors {
+    /// The primitive attributes of the shared data (TEXCOORD_1 is added per
+    /// instance).
+    pub(super) fn attributes(&self) -> Map<String, Value> {
+        let mut attributes = Map::new();
+        attributes.insert("POSITION".into(), json!(self.position));
+        if let Some(n) = self.normal {
+            attributes.insert("NORMAL".into(), json!(n));
+        }
+        if let Some(t) = self.uv0 {
+            attributes.insert("TEXCOORD_0".into(), json!(t));
+        }
+        attributes
+    }
+}
+
 impl SplitMesh {
     pub(super) fn new(mesh: &Mesh, layout: Option<&crate::atlas::MeshLayout>) -> Self {
         let mut vertices = Vec::new();
@@ -192,14 +208,7 @@ impl Builder<'_> {
         let material_id = inst.material.unwrap_or(mesh.material);
         let page = rect.map(|r| r.page);
         let material = self.material(material_id, page, acc.uv0.is_some())?;
-        let mut attributes = Map::new();
-        attributes.insert("POSITION".into(), json!(acc.position));
-        if let Some(n) = acc.normal {
-            attributes.insert("NORMAL".into(), json!(n));
-        }
-        if let Some(t) = acc.uv0 {
-            attributes.insert("TEXCOORD_0".into(), json!(t));
-        }
+        let mut attributes = acc.attributes();
         if let Some(t) = uv1 {
             attributes.insert("TEXCOORD_1".into(), json!(t));
         }
@@ -265,14 +274,7 @@ impl Builder<'_> {
         m.insert("name".into(), json!(al.name));
         self.materials.push(Value::Object(m));
         let material = self.materials.len() - 1;
-        let mut attributes = Map::new();
-        attributes.insert("POSITION".into(), json!(acc.position));
-        if let Some(n) = acc.normal {
-            attributes.insert("NORMAL".into(), json!(n));
-        }
-        if let Some(t) = acc.uv0 {
-            attributes.insert("TEXCOORD_0".into(), json!(t));
-        }
+        let attributes = acc.attributes();
         self.meshes.push(json!({
             "name": al.name,
             "primitives": [{

@@ -13,6 +13,19 @@ pub(super) fn unit_color(c: Rgb, what: &str, notes: &mut Vec<String>) -> Rgb {
     d
 }
 
+/// Full `KHR_materials_transmission`, noted as thin-walled (no
+/// `KHR_materials_volume`); returns true (the material transmits).
+fn thin_transmission(what: &str, ext: &mut Map<String, Value>, notes: &mut Vec<String>) -> bool {
+    ext.insert(
+        "KHR_materials_transmission".into(),
+        json!({"transmissionFactor": 1.0}),
+    );
+    notes.push(format!(
+        "{what} dielectric as KHR_materials_transmission (without KHR_materials_volume viewers treat it as thin-walled: no refraction offset)"
+    ));
+    true
+}
+
 impl Builder<'_> {
     pub(super) fn material(
         &mut self,
@@ -180,26 +193,12 @@ impl Builder<'_> {
             Bsdf::Dielectric(d) => {
                 set(d.tint, 0.0, 0.0, &mut notes);
                 ior_ext(d.eta, &mut ext, &mut notes);
-                ext.insert(
-                    "KHR_materials_transmission".into(),
-                    json!({"transmissionFactor": 1.0}),
-                );
-                transmissive = true;
-                notes.push(
-                    "smooth dielectric as KHR_materials_transmission (without KHR_materials_volume viewers treat it as thin-walled: no refraction offset)".into(),
-                );
+                transmissive = thin_transmission("smooth", &mut ext, &mut notes);
             }
             Bsdf::RoughDielectric(d) => {
                 set(d.tint, 0.0, d.alpha.max(0.0).sqrt(), &mut notes);
                 ior_ext(d.eta, &mut ext, &mut notes);
-                ext.insert(
-                    "KHR_materials_transmission".into(),
-                    json!({"transmissionFactor": 1.0}),
-                );
-                transmissive = true;
-                notes.push(
-                    "rough dielectric as KHR_materials_transmission (without KHR_materials_volume viewers treat it as thin-walled)".into(),
-                );
+                transmissive = thin_transmission("rough", &mut ext, &mut notes);
             }
         }
         // Textures (UV set 0): the colour texture multiplies every model's
