@@ -34,6 +34,26 @@ fn files_in(dir: &Path) -> Vec<String> {
     v
 }
 
+/// Each (arguments, expected text) case fails, names the problem, does not
+/// panic and leaves no file in `d`.
+fn expect_failures(cases: &[(&[&str], &str)], d: &Path) {
+    for (args, expected) in cases {
+        let o = penumbra(args, d);
+        assert!(!o.status.success(), "{args:?} should fail");
+        assert!(
+            stderr(&o).contains(expected),
+            "{args:?}: stderr does not mention '{expected}':\n{}",
+            stderr(&o)
+        );
+        assert!(!stderr(&o).contains("panicked"), "{args:?} panicked");
+        assert!(
+            files_in(d).is_empty(),
+            "{args:?} left files: {:?}",
+            files_in(d)
+        );
+    }
+}
+
 #[test]
 fn bad_arguments_fail_without_output() {
     let dir = tempfile::tempdir().unwrap();
@@ -126,21 +146,7 @@ fn bad_arguments_fail_without_output() {
         ),
         (&["compare", "no-ref.exr", "no-test.exr"], "no-ref.exr"),
     ];
-    for (args, expected) in cases {
-        let o = penumbra(args, d);
-        assert!(!o.status.success(), "{args:?} should fail");
-        assert!(
-            stderr(&o).contains(expected),
-            "{args:?}: stderr does not mention '{expected}':\n{}",
-            stderr(&o)
-        );
-        assert!(!stderr(&o).contains("panicked"), "{args:?} panicked");
-        assert!(
-            files_in(d).is_empty(),
-            "{args:?} left files: {:?}",
-            files_in(d)
-        );
-    }
+    expect_failures(cases, d);
 }
 
 #[test]
@@ -518,21 +524,7 @@ fn bake_round_trip_and_errors() {
         ),
         (&["info", "--bake", "nowhere"], "nowhere"),
     ];
-    for (args, expected) in cases {
-        let o = penumbra(args, d);
-        assert!(!o.status.success(), "{args:?} should fail");
-        assert!(
-            stderr(&o).contains(expected),
-            "{args:?}: '{expected}' not in:\n{}",
-            stderr(&o)
-        );
-        assert!(!stderr(&o).contains("panicked"), "{args:?} panicked");
-        assert!(
-            files_in(d).is_empty(),
-            "{args:?} left files: {:?}",
-            files_in(d)
-        );
-    }
+    expect_failures(cases, d);
     let scene = cornell_toml();
     let o = penumbra(
         &[
