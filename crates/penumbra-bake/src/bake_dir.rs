@@ -221,17 +221,7 @@ fn manifest_of(
             triangles: scene.triangle_count(),
         },
         settings,
-        atlas: AtlasInfo {
-            width: a.width,
-            height: a.height,
-            pages: a.pages,
-            texels_per_unit: a.texels_per_unit,
-            padding: a.padding,
-            charts: a.charts,
-            utilization: a.utilization,
-            uvs: UVS_FILE.into(),
-            uvs_bytes,
-        },
+        atlas: AtlasInfo::of(a, UVS_FILE, uvs_bytes),
         instances,
         maps,
         texels: TexelInfo {
@@ -505,17 +495,7 @@ pub fn read_bake(dir: &Path, scene: &Scene) -> Result<LoadedBake, BakeError> {
         pages.push(layers.rgb);
         coverage.push(cov);
     }
-    let atlas = Atlas {
-        width: a.width,
-        height: a.height,
-        pages: a.pages,
-        texels_per_unit: a.texels_per_unit,
-        padding: a.padding,
-        charts: a.charts,
-        utilization: a.utilization,
-        meshes,
-        instances,
-    };
+    let atlas = a.atlas(meshes, instances);
     Ok(LoadedBake {
         dir: dir.to_path_buf(),
         kind,

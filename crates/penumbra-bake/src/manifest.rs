@@ -128,6 +128,44 @@ pub struct ConvergenceInfo {
     pub final_unshot_fraction: f64,
 }
 
+impl AtlasInfo {
+    /// The manifest's record of `atlas`, whose layouts are the file `uvs`
+    /// of `uvs_bytes` bytes.
+    pub fn of(atlas: &crate::atlas::Atlas, uvs: &str, uvs_bytes: u64) -> Self {
+        Self {
+            width: atlas.width,
+            height: atlas.height,
+            pages: atlas.pages,
+            texels_per_unit: atlas.texels_per_unit,
+            padding: atlas.padding,
+            charts: atlas.charts,
+            utilization: atlas.utilization,
+            uvs: uvs.into(),
+            uvs_bytes,
+        }
+    }
+
+    /// The atlas this record describes, with the layouts and rectangles
+    /// read beside it.
+    pub fn atlas(
+        &self,
+        meshes: Vec<Option<crate::atlas::MeshLayout>>,
+        instances: Vec<Option<crate::atlas::InstanceRect>>,
+    ) -> crate::atlas::Atlas {
+        crate::atlas::Atlas {
+            width: self.width,
+            height: self.height,
+            pages: self.pages,
+            texels_per_unit: self.texels_per_unit,
+            padding: self.padding,
+            charts: self.charts,
+            utilization: self.utilization,
+            meshes,
+            instances,
+        }
+    }
+}
+
 impl Manifest {
     /// Parses a manifest, refusing other formats and versions first (so an
     /// old or new manifest says so instead of naming a missing field).

@@ -105,11 +105,6 @@ impl SceneGeometry {
         }
     }
 
-    /// Index (into `Scene::instances`) of the instance a triangle belongs to.
-    pub fn instance_of(&self, triangle: u32) -> usize {
-        self.sources[triangle as usize].instance as usize
-    }
-
     /// The instance a triangle belongs to and its index in the instance's
     /// mesh.
     pub fn triangle_source(&self, triangle: u32) -> (usize, usize) {

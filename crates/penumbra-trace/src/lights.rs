@@ -212,7 +212,7 @@ impl LightSampler {
             Emitter::Entry(e) => e,
             Emitter::Triangle(t) => {
                 return (self.entry_of_triangle.get(t as usize) != Some(&u32::MAX))
-                    .then(|| LightSource::EmissiveInstance(geometry.instance_of(t)));
+                    .then(|| LightSource::EmissiveInstance(geometry.triangle_source(t).0));
             }
             Emitter::Shape(l) => return Some(LightSource::AreaLight(l as usize)),
             Emitter::Environment => return Some(LightSource::Environment),
@@ -222,7 +222,7 @@ impl LightSampler {
             Entry::Shape(i) => LightSource::AreaLight(i),
             Entry::Environment => LightSource::Environment,
             Entry::Triangle { triangle, .. } => {
-                LightSource::EmissiveInstance(geometry.instance_of(triangle))
+                LightSource::EmissiveInstance(geometry.triangle_source(triangle).0)
             }
         })
     }

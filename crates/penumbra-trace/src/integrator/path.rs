@@ -141,7 +141,7 @@ pub(crate) fn walk<S: RadianceSink>(
             return;
         }
         next_event(ctx, &s, sampler, st.beta, st.depth, sink);
-        match scatter(ctx, &s, sampler, st) {
+        match scatter(ctx, &s, sampler, st.beta, st.depth) {
             Some(next) => st = next,
             None => return,
         }
@@ -192,13 +192,15 @@ pub(crate) fn next_event<S: RadianceSink>(
     );
 }
 
-/// BSDF sampling at `s`: the next segment of the path, or `None` when the
-/// path ends (no sample, a direction on the wrong side, Russian roulette).
+/// BSDF sampling at `s`, the end of segment `depth` of a path of throughput
+/// `beta`: the next segment, or `None` when the path ends (no sample, a
+/// direction on the wrong side, Russian roulette).
 pub(crate) fn scatter(
     ctx: &TraceContext,
     s: &Shading,
     sampler: &mut Sampler,
-    st: PathState,
+    beta: Rgb,
+    depth: u32,
 ) -> Option<PathState> {
     let bs = s
         .bsdf
@@ -207,8 +209,8 @@ pub(crate) fn scatter(
     if !TraceContext::consistent_side(s, wi, bs.wi) {
         return None;
     }
-    let mut beta = st.beta * bs.weight;
-    let depth = st.depth + 1;
+    let mut beta = beta * bs.weight;
+    let depth = depth + 1;
     if depth > RR_START_DEPTH {
         let q = beta.max_element().min(0.95);
         if sampler.next_1d() >= q {

@@ -7,7 +7,7 @@
 //! [`crate::geometry::SceneGeometry::surface_point`]) seen from its front:
 //! the side its geometric normal `ng` points to.
 
-use super::path::{PathState, RadianceSink, next_event, scatter, walk};
+use super::path::{RadianceSink, next_event, scatter, walk};
 use super::{PathSample, Shading, TraceContext, ao};
 use crate::geometry::SurfaceHit;
 use penumbra_shading::Rgb;
@@ -62,14 +62,7 @@ impl TraceContext<'_> {
         let max_depth = bounces.saturating_add(2);
         let beta = Rgb::ONE;
         next_event(self, &s, sampler, beta, 1, sink);
-        let start = PathState {
-            ray: crate::ray::Ray::new(s.hit.p, s.ng),
-            beta,
-            prev_bsdf_pdf: None,
-            prev_point: s.hit.p,
-            depth: 1,
-        };
-        if let Some(next) = scatter(self, &s, sampler, start) {
+        if let Some(next) = scatter(self, &s, sampler, beta, 1) {
             walk(
                 self,
                 next,
