@@ -406,6 +406,31 @@ pub struct GpuBakeParams {
     pub _pad0: u32,
 }
 
+/// Constants of the screen-space AO passes (WGSL `GpuAoParams`,
+/// passes/ao/common.wgsl).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuAoParams {
+    /// World to view.
+    pub view: [[f32; 4]; 4],
+    /// The 4×4 jitter tile (x: rotation / slice offset, y: step offset).
+    pub tile: [[f32; 4]; 16],
+    /// (P[0][0], P[1][1]) of the projection.
+    pub proj_scale: [f32; 2],
+    /// Width and height in pixels.
+    pub size: [f32; 2],
+    /// R [world units].
+    pub radius: f32,
+    /// GTAO's falloff band as a fraction of R.
+    pub falloff: f32,
+    pub ortho: u32,
+    pub samples: u32,
+    pub slices: u32,
+    pub steps: u32,
+    pub mip_levels: u32,
+    pub _pad0: u32,
+}
+
 /// Host layout of one `#[repr(C)]` GPU struct: its WGSL name, size and
 /// (field name, offset) pairs, from `size_of` and `offset_of!`.
 #[derive(Clone, Debug, PartialEq)]
@@ -428,6 +453,14 @@ macro_rules! host_layout {
 /// Every struct the host uploads, as the shaders name them.
 pub fn gpu_structs() -> Vec<HostLayout> {
     vec![
+        host_layout!(
+            GpuAoParams,
+            "GpuAoParams",
+            [
+                view, tile, proj_scale, size, radius, falloff, ortho, samples, slices, steps,
+                mip_levels, _pad0
+            ]
+        ),
         host_layout!(
             GpuLight,
             "GpuLight",

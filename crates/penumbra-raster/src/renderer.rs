@@ -18,6 +18,7 @@ use crate::context::{GpuContext, GpuError};
 use crate::gpu::GpuPassParams;
 use crate::light_culling::{CullingStats, LightCulling, MAX_CULLED_LIGHTS};
 use crate::material_tables::{KULLA_CONTY_BINDING, kulla_conty_table};
+use crate::passes::ao::{AoSettings, AoTextures, NORMAL_TARGET_FORMAT, R32Readback, ScreenSpaceAo};
 use crate::passes::lightmap::{BAKE_GROUP, BakedMaps, LightmapFrame, bake_layout};
 use crate::planar_shadow::{PlanarFrame, PlanarShadows};
 use crate::receivers::planar_receivers;
@@ -86,6 +87,8 @@ pub struct RasterOptions {
     /// Read the tile lists back after the frame and report
     /// [`RasterOutput::culling`] (costs a copy and a readback).
     pub culling_stats: bool,
+    /// Screen-space ambient occlusion of the environment term.
+    pub ao: AoSettings,
 }
 
 impl Default for RasterOptions {
@@ -99,6 +102,7 @@ impl Default for RasterOptions {
             normal_offset: DEFAULT_NORMAL_OFFSET,
             light_culling: true,
             culling_stats: false,
+            ao: AoSettings::default(),
         }
     }
 }
@@ -127,8 +131,9 @@ pub struct RasterOutput {
     pub warnings: Vec<String>,
     /// The light lists of the tiles, with [`RasterOptions::culling_stats`].
     pub culling: Option<CullingStats>,
-    /// With bakes and `aovs`: `ao` (kA) and `irradiance` (E in W/m²) as
-    /// looked up at each pixel.
+    /// With `aovs`: `ao` (kA: looked up in an AO bake, or the screen-space
+    /// term after its denoise) and, with an irradiance bake, `irradiance`
+    /// (E in W/m²), per pixel.
     pub aovs: Vec<(String, Image)>,
 }
 
@@ -255,6 +260,10 @@ pub struct ForwardRenderer {
     depth_format: wgpu::TextureFormat,
     /// The metallic–roughness model's Kulla–Conty table (a constant).
     kulla_conty: wgpu::Buffer,
+    /// Screen-space AO (with [`RasterOptions::ao`]).
+    ao: Option<ScreenSpaceAo>,
+    /// kA = 1 for frames without screen-space AO (a 1×1 stand-in).
+    no_ao: wgpu::TextureView,
     options: RasterOptions,
 }
 
@@ -274,6 +283,8 @@ struct Targets {
     resolved_view: wgpu::TextureView,
     multisampled_view: Option<wgpu::TextureView>,
     depth_view: wgpu::TextureView,
+    /// With screen-space AO: the prepass's world normals and view distances.
+    normal_view: Option<wgpu::TextureView>,
 }
 
 impl Targets {
@@ -402,6 +413,16 @@ impl ForwardRenderer {
                 storage_entry(10, fragment, true),
                 uniform_entry(11, fragment),
                 storage_entry(19, fragment, true),
+                wgpu::BindGroupLayoutEntry {
+                    binding: SCREEN_AO_BINDING,
+                    visibility: fragment,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
             ],
         });
         let params_layout = params_layout(device);
@@ -457,15 +478,19 @@ impl ForwardRenderer {
                 constants: &[],
             },
         );
+        // With screen-space AO the prepass also writes the normal target
+        // (the same @invariant clip positions as vs_depth).
+        let with_normals = [Some(vec3_buffer(0)), Some(vec3_buffer(1))];
+        let ao_on = options.ao.enabled();
         let depth_pipeline = build_pipeline(
             device,
             &module,
             &pipeline_layout,
             PipelineSpec {
                 label: "depth prepass",
-                vs: "vs_depth",
-                fs: None,
-                buffers: &position_only,
+                vs: if ao_on { "vs_main" } else { "vs_depth" },
+                fs: ao_on.then_some("fs_ao_prepass"),
+                buffers: if ao_on { &with_normals } else { &position_only },
                 depth: depth_state(
                     true,
                     wgpu::CompareFunction::Greater,
@@ -490,7 +515,11 @@ impl ForwardRenderer {
                 depth: depth_state(false, greater_equal, Default::default(), depth_format),
                 blend: None,
                 samples: msaa,
-                constants: &[("MATERIAL_MODELS", 0.0), ("SHADOW_MAPS", 0.0)],
+                constants: &[
+                    ("MATERIAL_MODELS", 0.0),
+                    ("SHADOW_MAPS", 0.0),
+                    ("SCREEN_AO", ao_on as u32 as f64),
+                ],
             },
         );
         // One light, added where the stencil is 0 (shadow volumes: count 0;
@@ -563,6 +592,10 @@ impl ForwardRenderer {
                 bytemuck::cast_slice(&kulla_conty_table()),
                 wgpu::BufferUsages::STORAGE,
             ),
+            ao: ao_on.then(|| ScreenSpaceAo::new(device, options.ao, msaa)),
+            no_ao: AoTextures::new(device, 1, 1)
+                .ao
+                .create_view(&Default::default()),
             options,
         })
     }
@@ -589,6 +622,7 @@ impl ForwardRenderer {
                     ("MATERIAL_MODELS", models as f64),
                     ("SHADOW_MAPS", shadow_maps),
                     ("BAKED_MAPS", baked as u32 as f64),
+                    ("SCREEN_AO", self.ao.is_some() as u32 as f64),
                 ];
                 let add = wgpu::BlendComponent {
                     src_factor: wgpu::BlendFactor::One,
@@ -738,7 +772,16 @@ impl ForwardRenderer {
             msaa,
             attach | wgpu::TextureUsages::TEXTURE_BINDING,
         );
+        let normals = self.ao.is_some().then(|| {
+            target(
+                "ao normals",
+                NORMAL_TARGET_FORMAT,
+                msaa,
+                attach | wgpu::TextureUsages::TEXTURE_BINDING,
+            )
+        });
         Targets {
+            normal_view: normals.map(|t| t.create_view(&Default::default())),
             resolved_view: resolved.create_view(&Default::default()),
             multisampled_view: multisampled
                 .as_ref()
@@ -796,9 +839,14 @@ impl ForwardRenderer {
                 "a full light map already holds the direct light and its shadows; bake it with --indirect-only to add real-time lights and shadows".into(),
             ));
         }
-        if aovs && bakes.is_empty() {
+        if aovs && bakes.is_empty() && self.ao.is_none() {
             return Err(GpuError::Unsupported(
-                "the raster engine's AOVs are the looked-up bake values (ao, irradiance): give --bake".into(),
+                "the raster engine's AOVs are the ambient-occlusion term (give --ssao hemisphere|gtao) and the looked-up bake values (ao, irradiance: give --bake)".into(),
+            ));
+        }
+        if bakes.ao.is_some() && self.ao.is_some() {
+            return Err(GpuError::Unsupported(
+                "an ambient-occlusion bake and screen-space AO would both darken the ambient light (kA twice): use one".into(),
             ));
         }
         let baked = !bakes.is_empty();
@@ -835,6 +883,13 @@ impl ForwardRenderer {
                 "raster: {light_count} lights: more than the {MAX_CULLED_LIGHTS} light culling handles; every pixel shades every light"
             ));
         }
+        let screen_ao = self
+            .ao
+            .is_some()
+            .then(|| AoTextures::new(device, width, height));
+        let screen_ao_view = screen_ao
+            .as_ref()
+            .map(|t| t.ao.create_view(&Default::default()));
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("penumbra forward"),
             layout: &self.layout,
@@ -857,6 +912,12 @@ impl ForwardRenderer {
                 whole(10, &culling.tile_lights),
                 whole(11, &culling.uniform_buffer),
                 whole(19, &gpu.ambient),
+                wgpu::BindGroupEntry {
+                    binding: SCREEN_AO_BINDING,
+                    resource: wgpu::BindingResource::TextureView(
+                        screen_ao_view.as_ref().unwrap_or(&self.no_ao),
+                    ),
+                },
             ],
         });
         let shadow_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -894,7 +955,11 @@ impl ForwardRenderer {
         } else {
             2
         };
-        let timer = GpuTimer::new(ctx, shadow_maps.layers + 5 + stencil_passes * light_count);
+        let ao_passes = if self.ao.is_some() { 8 } else { 0 };
+        let timer = GpuTimer::new(
+            ctx,
+            shadow_maps.layers + 5 + ao_passes + stencil_passes * light_count,
+        );
 
         let readback = ImageReadback::new(device, width, height);
 
@@ -915,9 +980,22 @@ impl ForwardRenderer {
             &timer,
         );
         {
+            let normal_attachment =
+                targets
+                    .normal_view
+                    .as_ref()
+                    .map(|view| wgpu::RenderPassColorAttachment {
+                        view,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                            store: wgpu::StoreOp::Store,
+                        },
+                    });
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("depth prepass"),
-                color_attachments: &[],
+                color_attachments: &[normal_attachment],
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                     view: &targets.depth_view,
                     depth_ops: Some(wgpu::Operations {
@@ -937,7 +1015,18 @@ impl ForwardRenderer {
             pass.set_bind_group(0, &bind_group, &[]);
             pass.set_bind_group(1, &params.bind_group, &[0]);
             pass.set_bind_group(BAKE_GROUP, &lightmaps.bind_group, &[]);
-            gpu.draw_all(&mut pass, false, 0);
+            gpu.draw_all(&mut pass, self.ao.is_some(), 0);
+        }
+        if let (Some(ao), Some(normals), Some(textures)) =
+            (&self.ao, &targets.normal_view, &screen_ao)
+        {
+            let radius = ao.settings().radius_for(gpu.bounds);
+            let ortho = matches!(
+                camera.projection,
+                penumbra_scene::camera::Projection::Orthographic { .. }
+            );
+            let params = ao.params(view, proj, ortho, (width, height), radius);
+            ao.record(device, &mut encoder, normals, &params, textures, &timer);
         }
         if !has_stencil {
             self.culling
@@ -974,7 +1063,7 @@ impl ForwardRenderer {
                 planar_frame.as_ref(),
             );
         }
-        let aov_targets = aovs.then(|| {
+        let aov_targets = (aovs && !bakes.is_empty()).then(|| {
             let t = BakeAovTargets::new(device, width, height, o.msaa);
             t.record(
                 &mut encoder,
@@ -986,6 +1075,10 @@ impl ForwardRenderer {
             );
             t
         });
+        let ao_readback = screen_ao
+            .as_ref()
+            .filter(|_| aovs)
+            .map(|t| t.record_readback(device, &mut encoder));
         timer.resolve(&mut encoder);
         LightCulling::record_stats_copy(&mut encoder, &culling);
         readback.record(&mut encoder, &targets.resolved);
@@ -995,10 +1088,14 @@ impl ForwardRenderer {
         let frame_ms = frame_start.elapsed().as_secs_f64() * 1e3;
 
         let image = readback.read(ctx)?;
-        let aovs = match &aov_targets {
+        let mut aovs = match &aov_targets {
             Some(t) => t.read(ctx)?,
             None => Vec::new(),
         };
+        if let Some(r) = &ao_readback {
+            aovs.retain(|(name, _)| name != "ao");
+            aovs.insert(0, ("ao".to_string(), grey_image(r, ctx, width, height)?));
+        }
         let passes = timer.read(ctx)?;
         let culling_stats = LightCulling::stats(ctx, &culling)?;
         Ok(RasterOutput {
@@ -1011,6 +1108,20 @@ impl ForwardRenderer {
             aovs,
         })
     }
+}
+
+/// Group-0 binding of the screen-space AO texture in the geometry passes.
+pub const SCREEN_AO_BINDING: u32 = 24;
+
+/// A single-channel readback as a grey image.
+fn grey_image(
+    r: &R32Readback,
+    ctx: &GpuContext,
+    width: u32,
+    height: u32,
+) -> Result<Image, GpuError> {
+    let pixels = r.read(ctx)?.into_iter().map(Vec3::splat).collect();
+    Image::from_pixels(width, height, pixels).map_err(|e| GpuError::Wgpu(e.to_string()))
 }
 
 /// What the raster path approximates when it shows `bakes`.

@@ -87,6 +87,48 @@ pub fn planar_shadow_source() -> String {
     format!("{}\n{SCENE_WGSL}\n{PLANAR_SHADOW_WGSL}", library())
 }
 
+/// Screen-space AO: what every AO pass shares (`GpuAoParams`, position
+/// reconstruction).
+pub const AO_COMMON_WGSL: &str = include_str!("passes/ao/common.wgsl");
+/// GTAO's slice integral (also used by the tests' twin kernel).
+pub const GTAO_SLICE_WGSL: &str = include_str!("passes/ao/slice.wgsl");
+
+/// The AO inputs and depth-MIP module for a single- or multisampled
+/// prepass normal target.
+pub fn ao_inputs_source(multisampled: bool) -> String {
+    let texture = if multisampled {
+        "texture_multisampled_2d<f32>"
+    } else {
+        "texture_2d<f32>"
+    };
+    let pass = include_str!("passes/ao/inputs.wgsl").replace("PREPASS_TEXTURE", texture);
+    format!("{AO_COMMON_WGSL}\n{pass}")
+}
+
+/// The hemisphere SSAO module.
+pub fn hemisphere_source() -> String {
+    format!(
+        "{AO_COMMON_WGSL}\n{}",
+        include_str!("passes/ao/hemisphere.wgsl")
+    )
+}
+
+/// The GTAO module.
+pub fn gtao_source() -> String {
+    format!(
+        "{AO_COMMON_WGSL}\n{GTAO_SLICE_WGSL}\n{}",
+        include_str!("passes/ao/gtao.wgsl")
+    )
+}
+
+/// The AO denoise module.
+pub fn ao_denoise_source() -> String {
+    format!(
+        "{AO_COMMON_WGSL}\n{}",
+        include_str!("passes/ao/denoise.wgsl")
+    )
+}
+
 /// Every pass module the renderer builds, by name (for the layout tests).
 pub fn all_modules() -> Vec<(&'static str, String)> {
     vec![
@@ -96,6 +138,11 @@ pub fn all_modules() -> Vec<(&'static str, String)> {
         ("shadow volume (facing)", shadow_volume_source(true)),
         ("shadow volume (draw)", shadow_volume_source(false)),
         ("planar shadow", planar_shadow_source()),
+        ("ao inputs (1 sample)", ao_inputs_source(false)),
+        ("ao inputs (multisampled)", ao_inputs_source(true)),
+        ("ssao hemisphere", hemisphere_source()),
+        ("gtao", gtao_source()),
+        ("ao denoise", ao_denoise_source()),
     ]
 }
 

@@ -7,6 +7,7 @@ use anyhow::{Context, Result, bail};
 use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use penumbra_image::{ToneMapping, ToneOperator, check_output_path, write_image};
+use penumbra_raster::passes::ao::{AoMethod, AoQuality, AoSettings};
 use penumbra_raster::{DEFAULT_SHADOW_MAP_SIZE, MAX_PCF, RasterOptions, ShadowMode};
 use penumbra_scene::{IntegratorKind, RenderSettings, Scene};
 use penumbra_trace::{Progress, RenderOptions, render, scene_camera};
@@ -82,6 +83,65 @@ pub struct RenderArgs {
     /// gives the diffuse light. Repeat for an AO bake and an irradiance bake.
     #[arg(long)]
     pub bake: Vec<PathBuf>,
+    /// Raster engine: screen-space ambient occlusion of the environment
+    /// (ambient) light: none (default), hemisphere (the notes' kernel,
+    /// cosine-weighted) or gtao (horizon-based). Direct light is untouched.
+    #[arg(long, value_enum)]
+    pub ssao: Option<SsaoArg>,
+    /// Raster engine, --ssao: radius R in scene units: occluders farther
+    /// than R do not occlude, as with `--integrator ao --ao-distance R`
+    /// [default: 0.1 × the scene's bounding radius].
+    #[arg(long, value_parser = parse_seconds, allow_negative_numbers = true)]
+    pub ao_radius: Option<f64>,
+    /// Raster engine, --ssao: sample counts (hemisphere: 8/16/32 points;
+    /// gtao: 2×3, 3×6, 4×8 slices × steps per side) [default: medium].
+    #[arg(long, value_enum)]
+    pub ao_quality: Option<AoQualityArg>,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum SsaoArg {
+    None,
+    Hemisphere,
+    Gtao,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum AoQualityArg {
+    Low,
+    Medium,
+    High,
+}
+
+/// The raster path's screen-space AO for `--ssao`, `--ao-radius` and
+/// `--ao-quality` (the last two need the first).
+pub fn ao_settings(
+    ssao: Option<SsaoArg>,
+    radius: Option<f64>,
+    quality: Option<AoQualityArg>,
+) -> Result<AoSettings> {
+    let method = match ssao.unwrap_or(SsaoArg::None) {
+        SsaoArg::None => AoMethod::None,
+        SsaoArg::Hemisphere => AoMethod::Hemisphere,
+        SsaoArg::Gtao => AoMethod::Gtao,
+    };
+    if method == AoMethod::None && (radius.is_some() || quality.is_some()) {
+        bail!("--ao-radius and --ao-quality need --ssao hemisphere|gtao");
+    }
+    if let Some(r) = radius
+        && !(r > 0.0 && r.is_finite())
+    {
+        bail!("--ao-radius {r}: give a positive radius in scene units");
+    }
+    Ok(AoSettings {
+        method,
+        radius: radius.map(|r| r as f32),
+        quality: match quality.unwrap_or(AoQualityArg::Medium) {
+            AoQualityArg::Low => AoQuality::Low,
+            AoQualityArg::Medium => AoQuality::Medium,
+            AoQualityArg::High => AoQuality::High,
+        },
+    })
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -186,6 +246,12 @@ pub fn run(args: RenderArgs) -> Result<()> {
         (args.shadows.is_some(), "--shadows"),
         (args.shadow_map_size.is_some(), "--shadow-map-size"),
         (args.pcf.is_some(), "--pcf"),
+        (args.ssao.is_some(), "--ssao"),
+        (
+            args.ao_radius.is_some(),
+            "--ao-radius (the ray tracer's is --ao-distance)",
+        ),
+        (args.ao_quality.is_some(), "--ao-quality"),
     ] {
         if set {
             bail!(
@@ -249,9 +315,10 @@ fn render_raster(
     settings: &RenderSettings,
     tm: &ToneMapping,
 ) -> Result<()> {
-    if args.aovs && args.bake.is_empty() {
+    let ao = ao_settings(args.ssao, args.ao_radius, args.ao_quality)?;
+    if args.aovs && args.bake.is_empty() && !ao.enabled() {
         bail!(
-            "--aovs with --engine raster writes the looked-up bake values (ao, irradiance): give --bake DIR"
+            "--aovs with --engine raster writes the ambient-occlusion term (give --ssao hemisphere|gtao) and the looked-up bake values (ao, irradiance: give --bake DIR)"
         );
     }
     let bakes: Vec<penumbra_bake::LoadedBake> = args
@@ -280,6 +347,7 @@ fn render_raster(
             shadows,
             shadow_map_size: args.shadow_map_size.unwrap_or(DEFAULT_SHADOW_MAP_SIZE),
             pcf: args.pcf.unwrap_or(1),
+            ao,
             ..Default::default()
         },
         &maps,

@@ -23,6 +23,8 @@
 @group(0) @binding(11) var<uniform> culling: GpuCulling;
 // Per material: the environment's uniform ambient light it reflects.
 @group(0) @binding(19) var<storage, read> ambient: array<vec4<f32>>;
+// Screen-space kA per pixel (passes/ao), with SCREEN_AO.
+@group(0) @binding(24) var screen_ao: texture_2d<f32>;
 @group(1) @binding(0) var<uniform> params: GpuPassParams;
 
 // Shadow passes: instance_index = view * instance count + instance, so that
@@ -233,6 +235,33 @@ fn unshadowed_contribution(s: Surface, i: u32) -> vec3<f32> {
 // Whether the pipeline looks up shadow maps (false: their code is dropped).
 override SHADOW_MAPS: bool = true;
 
+// Whether the frame has screen-space AO (false: kA = 1 from the screen).
+override SCREEN_AO: bool = false;
+
+// The screen-space kA of the pixel holding fragment position `frag` (every
+// sample of a multisampled pixel gets its pixel's value).
+fn screen_space_ao(frag: vec2<f32>) -> f32 {
+    if !SCREEN_AO {
+        return 1.0;
+    }
+    return textureLoad(screen_ao, vec2<i32>(frag), 0).x;
+}
+
+// kA of the ambient (environment) term: an AO bake's or the screen's.
+fn ambient_occlusion(in: VsOut) -> f32 {
+    return baked_ao(in, 1.0) * screen_space_ao(in.clip.xy);
+}
+
+// Depth prepass with screen-space AO: the normal target gets the shading
+// normal on the viewer's side (world space) and the view distance at the
+// pixel centre (the distance from the camera plane, −z_view).
+@fragment
+fn fs_ao_prepass(in: VsOut, @builtin(front_facing) facing: bool) -> @location(0) vec4<f32> {
+    let s = surface_of(in, facing, cross(dpdx(in.world), dpdy(in.world)));
+    let z = dot(camera.eye.xyz - in.world, camera.back.xyz);
+    return vec4<f32>(s.frame.n, max(z, 1e-30));
+}
+
 // The same times the light's shadow-map visibility (1 without a map).
 fn light_contribution(s: Surface, i: u32) -> vec3<f32> {
     let c = unshadowed_contribution(s, i);
@@ -260,7 +289,7 @@ fn fs_forward(in: VsOut, @builtin(front_facing) facing: bool) -> @location(0) ve
     if !baked.realtime {
         return vec4<f32>(radiance, 1.0);
     }
-    radiance += ambient[s.material].xyz * baked_ao(in, 1.0);
+    radiance += ambient[s.material].xyz * ambient_occlusion(in);
     var count = TILE_OVERFLOW;
     var base = 0u;
     if culling.enabled != 0u {
@@ -289,7 +318,7 @@ fn fs_base(in: VsOut, @builtin(front_facing) facing: bool) -> @location(0) vec4<
     let baked = baked_light(s, in);
     var radiance = s.emission + baked.radiance;
     if baked.realtime {
-        radiance += ambient[s.material].xyz * baked_ao(in, 1.0);
+        radiance += ambient[s.material].xyz * ambient_occlusion(in);
     }
     return vec4<f32>(radiance, 1.0);
 }

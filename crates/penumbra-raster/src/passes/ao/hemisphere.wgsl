@@ -1,0 +1,61 @@
+// Hemisphere SSAO (the notes' method, cosine-weighted): N kernel points in
+// the hemisphere about the pixel's normal, turned about it by the pixel's
+// entry of the 4×4 rotation tile; a point is occluded when the surface
+// seen at its pixel lies in front of it (view distance) and it lies below
+// that surface's tangent plane, and that surface is within R of p (the
+// range check); kA ≈ the fraction of points not occluded. The kernel's
+// directions are cosine-distributed, so the fraction estimates the
+// cosine-weighted kA rather than an unweighted one. Points that project off
+// the screen count as open. Appended to common.wgsl.
+
+@group(0) @binding(1) var view_depth: texture_2d<f32>;
+@group(0) @binding(2) var view_normals: texture_2d<f32>;
+// xyz: direction about +z (cosine-distributed), w: length / R.
+@group(0) @binding(3) var<storage, read> kernel: array<vec4<f32>>;
+@group(0) @binding(4) var raw_ao: texture_storage_2d<r32float, write>;
+
+@compute @workgroup_size(8, 8)
+fn ssao_hemisphere(@builtin(global_invocation_id) id: vec3<u32>) {
+    if any(id.xy >= vec2<u32>(ao.size)) {
+        return;
+    }
+    let px = vec2<i32>(id.xy);
+    let z = textureLoad(view_depth, px, 0).x;
+    if z >= AO_BACKGROUND {
+        textureStore(raw_ao, id.xy, vec4<f32>(1.0));
+        return;
+    }
+    let p = ao_view_position(vec2<f32>(id.xy) + 0.5, z);
+    let n = textureLoad(view_normals, px, 0).xyz;
+    // A tangent frame about n (Duff et al. 2017), turned by the tile angle.
+    let sign = select(-1.0, 1.0, n.z >= 0.0);
+    let a = -1.0 / (sign + n.z);
+    let b = n.x * n.y * a;
+    let t0 = vec3<f32>(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
+    let b0 = vec3<f32>(b, sign + n.y * n.y * a, -n.y);
+    let angle = 2.0 * AO_PI * ao_tile(id.xy).x;
+    let t = cos(angle) * t0 + sin(angle) * b0;
+    let bt = cross(n, t);
+    // Below a surface by more than this counts as behind it.
+    let eps = 1e-4 * ao.radius;
+    var open = 0.0;
+    for (var i = 0u; i < ao.samples; i++) {
+        let k = kernel[i];
+        let s = p + (t * k.x + bt * k.y + n * k.z) * (k.w * ao.radius);
+        let spx = ao_project(s);
+        if !ao_on_screen(spx) || -s.z <= 0.0 {
+            open += 1.0;
+            continue;
+        }
+        let texel = vec2<i32>(spx);
+        let zs = textureLoad(view_depth, texel, 0).x;
+        var occluded = false;
+        if zs < -s.z && zs < AO_BACKGROUND {
+            let q = ao_view_position(floor(spx) + 0.5, zs);
+            let nq = textureLoad(view_normals, texel, 0).xyz;
+            occluded = dot(s - q, nq) < -eps && distance(q, p) <= ao.radius;
+        }
+        open += select(1.0, 0.0, occluded);
+    }
+    textureStore(raw_ao, id.xy, vec4<f32>(open / f32(max(ao.samples, 1u)), 0.0, 0.0, 0.0));
+}
