@@ -18,6 +18,9 @@ use crate::context::{GpuContext, GpuError};
 use crate::gpu::GpuPassParams;
 use crate::light_culling::{CullingStats, LightCulling, MAX_CULLED_LIGHTS};
 use crate::material_tables::{KULLA_CONTY_BINDING, kulla_conty_table};
+use crate::passes::environment::{
+    ENVIRONMENT_MATERIALS_BINDING, EnvironmentPass, layout_entries as environment_entries,
+};
 use crate::passes::lightmap::{BAKE_GROUP, BakedMaps, LightmapFrame, bake_layout};
 use crate::planar_shadow::{PlanarFrame, PlanarShadows};
 use crate::receivers::planar_receivers;
@@ -116,8 +119,9 @@ pub struct RasterOutput {
     /// Wall time from submitting the frame to the end of its execution
     /// [ms] (the queue is polled until idle).
     pub frame_ms: f64,
-    /// GPU time of every pass in submission order (names: `"shadow map
-    /// L"`, `"depth prepass"`, `"light culling"`, `"forward"`, `"base"`,
+    /// GPU time of every pass in submission order (names: `"environment
+    /// prefilter"` (in the first frame that shows an environment map),
+    /// `"shadow map L"`, `"depth prepass"`, `"light culling"`, `"forward"`, `"base"`,
     /// `"shadow volume facing L"`, `"shadow volume stencil L"`, `"planar
     /// shadow L"`, `"light L"`), where the adapter supports timestamp
     /// queries; empty otherwise.
@@ -255,6 +259,8 @@ pub struct ForwardRenderer {
     depth_format: wgpu::TextureFormat,
     /// The metallic–roughness model's Kulla–Conty table (a constant).
     kulla_conty: wgpu::Buffer,
+    /// The environment light: prefilter pipeline, sampler, last environment.
+    environment: EnvironmentPass,
     options: RasterOptions,
 }
 
@@ -373,6 +379,7 @@ impl ForwardRenderer {
         });
         let vf = wgpu::ShaderStages::VERTEX_FRAGMENT;
         let fragment = wgpu::ShaderStages::FRAGMENT;
+        let env = environment_entries();
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("penumbra forward"),
             entries: &[
@@ -401,7 +408,10 @@ impl ForwardRenderer {
                 storage_entry(KULLA_CONTY_BINDING, fragment, true),
                 storage_entry(10, fragment, true),
                 uniform_entry(11, fragment),
-                storage_entry(19, fragment, true),
+                env[0],
+                env[1],
+                env[2],
+                env[3],
             ],
         });
         let params_layout = params_layout(device);
@@ -563,6 +573,7 @@ impl ForwardRenderer {
                 bytemuck::cast_slice(&kulla_conty_table()),
                 wgpu::BufferUsages::STORAGE,
             ),
+            environment: EnvironmentPass::new(device),
             options,
         })
     }
@@ -835,6 +846,8 @@ impl ForwardRenderer {
                 "raster: {light_count} lights: more than the {MAX_CULLED_LIGHTS} light culling handles; every pixel shades every light"
             ));
         }
+        let environment = self.environment.prepare(ctx, &scene.environment());
+        let [env20, env21, env22] = environment.entries(&self.environment.sampler);
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("penumbra forward"),
             layout: &self.layout,
@@ -856,7 +869,10 @@ impl ForwardRenderer {
                 whole(KULLA_CONTY_BINDING, &self.kulla_conty),
                 whole(10, &culling.tile_lights),
                 whole(11, &culling.uniform_buffer),
-                whole(19, &gpu.ambient),
+                env20,
+                env21,
+                env22,
+                whole(ENVIRONMENT_MATERIALS_BINDING, &gpu.env_materials),
             ],
         });
         let shadow_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -894,7 +910,7 @@ impl ForwardRenderer {
         } else {
             2
         };
-        let timer = GpuTimer::new(ctx, shadow_maps.layers + 5 + stencil_passes * light_count);
+        let timer = GpuTimer::new(ctx, shadow_maps.layers + 6 + stencil_passes * light_count);
 
         let readback = ImageReadback::new(device, width, height);
 
@@ -907,6 +923,8 @@ impl ForwardRenderer {
         });
         let has_stencil = o.shadows.uses_stencil();
         let mut encoder = device.create_command_encoder(&Default::default());
+        self.environment
+            .record_prefilter(&environment, &mut encoder, &timer);
         shadow_maps.record(
             &mut encoder,
             &self.shadow_pipeline,

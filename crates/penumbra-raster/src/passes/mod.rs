@@ -1,3 +1,4 @@
 //! Raster techniques, one folder each: the pass's Rust beside its WGSL.
 
+pub mod environment;
 pub mod lightmap;

@@ -1,0 +1,74 @@
+// Environment light of the forward passes (host:
+// crates/penumbra-raster/src/passes/environment/mod.rs): the radiance a
+// surface reflects of the environment (constant or lat-long map), diffuse by
+// its SH9 irradiance, specular by the prefiltered map and the split sum.
+// Appended to the forward module after forward.wgsl (uses Surface).
+
+@group(0) @binding(20) var<uniform> environment: GpuEnvironment;
+@group(0) @binding(21) var environment_map: texture_2d<f32>;
+@group(0) @binding(22) var environment_sampler: sampler;
+@group(0) @binding(23) var<storage, read> environment_materials: array<GpuEnvMaterial>;
+
+// The environment's radiance arriving from world direction d, prefiltered
+// for a GGX lobe of perceptual roughness r (0: the map itself, bilinear).
+fn environment_radiance(d: vec3<f32>, roughness: f32) -> vec3<f32> {
+    let m = env_to_map(d, environment.rotation_cos, environment.rotation_sin);
+    let lod = clamp(roughness, 0.0, 1.0) * (environment.mip_count - 1.0);
+    return textureSampleLevel(environment_map, environment_sampler, latlong_uv(m), lod).xyz;
+}
+
+// Radiance towards the viewer reflected from the environment, kA the
+// ambient occlusion at the surface (1 = open):
+//  - diffuse: c_diff · kA · E_env(n) / π, E_env by SH9;
+//  - specular: so(n·v, kA, α) × (split sum of the prefiltered map, or the
+//    exact F of a delta lobe times the map along the mirror direction).
+fn environment_light(s: Surface, k_a: f32) -> vec3<f32> {
+    let em = environment_materials[s.material];
+    let n = s.frame.n;
+    let mu = clamp(s.wo_local.z, 0.0, 1.0);
+    let wo = s.frame.s * s.wo_local.x + s.frame.t * s.wo_local.y + n * s.wo_local.z;
+    var out = vec3<f32>(0.0);
+    if any(em.diffuse > vec3<f32>(0.0)) {
+        var c = em.diffuse;
+        if em.diffuse_kc != 0u {
+            let ab = env_split_sum(mu, em.roughness);
+            c = c * max(vec3<f32>(1.0) - (em.d_f0 * ab.x + (vec3<f32>(em.d_f90) - em.d_f0) * ab.y), vec3<f32>(0.0));
+        }
+        out += c * (k_a / PI) * sh9_irradiance(environment.sh, n);
+    }
+    if em.kind == ENV_SPEC_NONE {
+        return out;
+    }
+    let r = 2.0 * dot(n, wo) * n - wo;
+    let alpha = em.roughness * em.roughness;
+    var spec = vec3<f32>(0.0);
+    switch em.kind {
+        case ENV_SPEC_SPLIT_SUM: {
+            let ab = env_split_sum(mu, em.roughness);
+            let e = em.f0 * ab.x + (em.f90 - em.f0) * ab.y;
+            spec = e * environment_radiance(specular_dominant_direction(n, r, alpha), em.roughness);
+            if any(em.transmit > vec3<f32>(0.0)) {
+                let t = max(vec3<f32>(1.0) - e, vec3<f32>(0.0)) * em.transmit;
+                spec += t * environment_radiance(-wo, em.roughness);
+            }
+        }
+        case ENV_SPEC_DELTA_CONSTANT: {
+            spec = em.f0 * environment_radiance(r, 0.0);
+        }
+        case ENV_SPEC_DELTA_CONDUCTOR: {
+            var f: vec3<f32>;
+            if em.fresnel == FRESNEL_SCHLICK {
+                f = schlick(f0_from_ior(em.eta, em.k), mu);
+            } else {
+                f = fresnel_conductor(mu, em.eta, em.k);
+            }
+            spec = clamp(f, vec3<f32>(0.0), vec3<f32>(1.0)) * environment_radiance(r, 0.0);
+        }
+        case ENV_SPEC_DELTA_DIELECTRIC: {
+            let f = fresnel_dielectric(mu, em.ior);
+            spec = f * environment_radiance(r, 0.0) + (1.0 - f) * em.transmit * environment_radiance(-wo, 0.0);
+        }
+        default: {}
+    }
+    return out + specular_occlusion(mu, k_a, alpha) * spec;
+}
