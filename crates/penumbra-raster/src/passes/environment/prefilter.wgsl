@@ -49,6 +49,8 @@ fn prefilter_level(@builtin(global_invocation_id) id: vec3<u32>) {
         let sin_l = max(sqrt(max(1.0 - l.y * l.y, 0.0)), 1e-3);
         let omega_s = 1.0 / (f32(prefilter.samples) * pdf);
         let lod = clamp(0.5 * log2(omega_s / (texel * sin_l)) + LOD_BIAS, 0.0, prefilter.source_levels - 1.0);
+        // Karis's n·l weight (the exact n = v weight, G2(n, l), measured
+        // brighter at grazing views against the CPU).
         sum += textureSampleLevel(source_map, source_sampler, latlong_uv(l), lod).xyz * nl;
         weight += nl;
     }
