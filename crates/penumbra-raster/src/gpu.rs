@@ -427,7 +427,10 @@ pub struct GpuEnvironment {
     /// Levels of the prefiltered map (perceptual roughness r reads level
     /// r · (mip_count − 1)).
     pub mip_count: f32,
-    pub _pad0: u32,
+    /// 1: the map is drawn where no geometry is (the background pass).
+    pub background: u32,
+    /// Clip → world of the frame's camera (the background's view rays).
+    pub inv_view_proj: [[f32; 4]; 4],
 }
 
 /// What the environment light needs of one material (WGSL
@@ -623,7 +626,14 @@ pub fn gpu_structs() -> Vec<HostLayout> {
         host_layout!(
             GpuEnvironment,
             "GpuEnvironment",
-            [sh, rotation_cos, rotation_sin, mip_count, _pad0]
+            [
+                sh,
+                rotation_cos,
+                rotation_sin,
+                mip_count,
+                background,
+                inv_view_proj
+            ]
         ),
         host_layout!(
             GpuEnvMaterial,

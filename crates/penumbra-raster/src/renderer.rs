@@ -121,7 +121,8 @@ pub struct RasterOutput {
     pub frame_ms: f64,
     /// GPU time of every pass in submission order (names: `"environment
     /// prefilter"` (in the first frame that shows an environment map),
-    /// `"shadow map L"`, `"depth prepass"`, `"light culling"`, `"forward"`, `"base"`,
+    /// `"shadow map L"`, `"background"` (after the lighting passes, with an
+    /// environment map), `"depth prepass"`, `"light culling"`, `"forward"`, `"base"`,
     /// `"shadow volume facing L"`, `"shadow volume stencil L"`, `"planar
     /// shadow L"`, `"light L"`), where the adapter supports timestamp
     /// queries; empty otherwise.
@@ -239,6 +240,8 @@ pub struct ForwardRenderer {
     params_layout: wgpu::BindGroupLayout,
     depth_pipeline: wgpu::RenderPipeline,
     base_pipeline: wgpu::RenderPipeline,
+    /// Draws the environment map where no geometry is.
+    background_pipeline: wgpu::RenderPipeline,
     shadow_pipeline: wgpu::RenderPipeline,
     /// The forward module and layout, for the specialised pipelines.
     module: wgpu::ShaderModule,
@@ -503,6 +506,27 @@ impl ForwardRenderer {
                 constants: &[("MATERIAL_MODELS", 0.0), ("SHADOW_MAPS", 0.0)],
             },
         );
+        // The environment map where the prepass left the far plane (0).
+        let background_pipeline = build_pipeline(
+            device,
+            &module,
+            &pipeline_layout,
+            PipelineSpec {
+                label: "background",
+                vs: "vs_background",
+                fs: Some("fs_background"),
+                buffers: &[],
+                depth: depth_state(
+                    false,
+                    wgpu::CompareFunction::Equal,
+                    Default::default(),
+                    depth_format,
+                ),
+                blend: None,
+                samples: msaa,
+                constants: &[("MATERIAL_MODELS", 0.0), ("SHADOW_MAPS", 0.0)],
+            },
+        );
         // One light, added where the stencil is 0 (shadow volumes: count 0;
         // planar shadows: top bit clear).
         let read_mask = if options.shadows == ShadowMode::Planar {
@@ -554,6 +578,7 @@ impl ForwardRenderer {
             params_layout,
             depth_pipeline,
             base_pipeline,
+            background_pipeline,
             shadow_pipeline,
             module,
             pipeline_layout,
@@ -910,7 +935,9 @@ impl ForwardRenderer {
         } else {
             2
         };
-        let timer = GpuTimer::new(ctx, shadow_maps.layers + 6 + stencil_passes * light_count);
+        let timer = GpuTimer::new(ctx, shadow_maps.layers + 7 + stencil_passes * light_count);
+        let draw_background = environment.is_map();
+        environment.write_view(ctx, (proj * view).inverse(), draw_background);
 
         let readback = ImageReadback::new(device, width, height);
 
@@ -991,6 +1018,21 @@ impl ForwardRenderer {
                 volume_frame.as_ref(),
                 planar_frame.as_ref(),
             );
+        }
+        if draw_background {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("background"),
+                color_attachments: &[Some(targets.colour(wgpu::LoadOp::Load, true))],
+                depth_stencil_attachment: Some(targets.depth_loaded(has_stencil)),
+                timestamp_writes: timer.render_pass("background"),
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_pipeline(&self.background_pipeline);
+            pass.set_bind_group(0, &bind_group, &[]);
+            pass.set_bind_group(1, &params.bind_group, &[0]);
+            pass.set_bind_group(BAKE_GROUP, &lightmaps.bind_group, &[]);
+            pass.draw(0..3, 0..1);
         }
         let aov_targets = aovs.then(|| {
             let t = BakeAovTargets::new(device, width, height, o.msaa);

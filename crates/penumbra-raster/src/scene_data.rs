@@ -136,7 +136,7 @@ fn environment_warnings(scene: &Scene) -> Vec<String> {
     let mut out = Vec::new();
     if scene.environment_map.is_some() {
         out.push(
-            "raster: the environment map lights diffuse surfaces by its 9-coefficient spherical-harmonic irradiance and glossy ones by a prefiltered map (split sum); it is not drawn: the background colour is used"
+            "raster: the environment map lights diffuse surfaces by its 9-coefficient spherical-harmonic irradiance and glossy ones by a prefiltered map (split sum)"
                 .to_string(),
         );
     }

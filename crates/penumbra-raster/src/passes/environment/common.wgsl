@@ -30,7 +30,10 @@ struct GpuEnvironment {
     // Levels of the prefiltered map: perceptual roughness r reads level
     // r · (mip_count − 1).
     mip_count: f32,
-    _pad0: u32,
+    // 1: the map is drawn where no geometry is (fs_background).
+    background: u32,
+    // Clip → world of the frame's camera (the background's view rays).
+    inv_view_proj: mat4x4<f32>,
 }
 
 // What the environment light needs of a material (host: gpu.rs

@@ -72,3 +72,33 @@ fn environment_light(s: Surface, k_a: f32) -> vec3<f32> {
     }
     return out + specular_occlusion(mu, k_a, alpha) * spec;
 }
+
+// The background pass: a full-screen triangle at depth 0 (reversed depth:
+// the far plane, the prepass's clear value), depth-tested Equal, so it
+// shades exactly the samples no geometry covers, with the map's radiance
+// along the pixel's view ray (level 0, bilinear).
+struct BackgroundOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) ndc: vec2<f32>,
+}
+
+@vertex
+fn vs_background(@builtin(vertex_index) i: u32) -> BackgroundOut {
+    let uv = vec2<f32>(f32((i << 1u) & 2u), f32(i & 2u));
+    var out: BackgroundOut;
+    out.ndc = uv * 2.0 - 1.0;
+    out.clip = vec4<f32>(out.ndc, 0.0, 1.0);
+    return out;
+}
+
+@fragment
+fn fs_background(in: BackgroundOut) -> @location(0) vec4<f32> {
+    var d: vec3<f32>;
+    if camera.back.w > 0.5 {
+        d = -camera.back.xyz;
+    } else {
+        let p = environment.inv_view_proj * vec4<f32>(in.ndc, 0.5, 1.0);
+        d = normalize(p.xyz / p.w - camera.eye.xyz);
+    }
+    return vec4<f32>(environment_radiance(d, 0.0), 1.0);
+}

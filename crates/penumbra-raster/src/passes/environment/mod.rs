@@ -203,7 +203,8 @@ pub fn gpu_environment(env: &Environment, sh: &Sh9, mip_count: u32) -> GpuEnviro
         rotation_cos,
         rotation_sin,
         mip_count: mip_count as f32,
-        _pad0: 0,
+        background: 0,
+        inv_view_proj: glam::Mat4::IDENTITY.to_cols_array_2d(),
     }
 }
 
@@ -357,6 +358,22 @@ impl EnvironmentGpu {
                 resource: wgpu::BindingResource::Sampler(sampler),
             },
         ]
+    }
+
+    /// Whether the environment is a map (drawn as the background).
+    pub fn is_map(&self) -> bool {
+        matches!(self.key, Environment::Map(_))
+    }
+
+    /// Writes the frame's camera (clip → world) and whether the background
+    /// pass draws the map into the uniform (frames are recorded and
+    /// submitted one at a time).
+    pub fn write_view(&self, ctx: &GpuContext, inv_view_proj: glam::Mat4, background: bool) {
+        let mut u = self.uniform;
+        u.inv_view_proj = inv_view_proj.to_cols_array_2d();
+        u.background = background as u32;
+        ctx.queue
+            .write_buffer(&self.uniform_buffer, 0, bytemuck::bytes_of(&u));
     }
 
     /// Level `level` of the prefiltered map, read back (after the frame that
@@ -619,7 +636,7 @@ impl EnvironmentPass {
                 device,
                 "environment",
                 bytemuck::bytes_of(&uniform),
-                wgpu::BufferUsages::UNIFORM,
+                wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             ),
             view: map.create_view(&Default::default()),
             _map: map,
