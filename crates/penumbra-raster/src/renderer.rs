@@ -89,7 +89,16 @@ pub struct RasterOptions {
     /// Read the tile lists back after the frame and report
     /// [`RasterOutput::culling`] (costs a copy and a readback).
     pub culling_stats: bool,
+    /// Glossy environment reflections (see `passes/environment`): 0 = the
+    /// split sum with one lookup of the prefiltered map along the lobe's
+    /// dominant direction; N (1 to [`MAX_ENVIRONMENT_TAPS`]) = the
+    /// prefiltered radiance averaged over N×N visible-normal taps of the
+    /// lobe (N² lookups per pixel), times the same split-sum factor.
+    pub environment_taps: u32,
 }
+
+/// Largest [`RasterOptions::environment_taps`].
+pub const MAX_ENVIRONMENT_TAPS: u32 = 32;
 
 impl Default for RasterOptions {
     fn default() -> Self {
@@ -102,6 +111,7 @@ impl Default for RasterOptions {
             normal_offset: DEFAULT_NORMAL_OFFSET,
             light_culling: true,
             culling_stats: false,
+            environment_taps: 0,
         }
     }
 }
@@ -359,6 +369,12 @@ impl ForwardRenderer {
                 "shadow map size {size} (the adapter allows 16 to {max_dim})"
             )));
         }
+        if options.environment_taps > MAX_ENVIRONMENT_TAPS {
+            return Err(GpuError::Unsupported(format!(
+                "{} environment taps: use 0 to {MAX_ENVIRONMENT_TAPS}",
+                options.environment_taps
+            )));
+        }
         if options.pcf == 0 || options.pcf > MAX_PCF {
             return Err(GpuError::Unsupported(format!(
                 "PCF kernel {}: use 1 to {MAX_PCF}",
@@ -503,7 +519,11 @@ impl ForwardRenderer {
                 depth: depth_state(false, greater_equal, Default::default(), depth_format),
                 blend: None,
                 samples: msaa,
-                constants: &[("MATERIAL_MODELS", 0.0), ("SHADOW_MAPS", 0.0)],
+                constants: &[
+                    ("MATERIAL_MODELS", 0.0),
+                    ("SHADOW_MAPS", 0.0),
+                    ("ENV_LOBE_TAPS", options.environment_taps as f64),
+                ],
             },
         );
         // The environment map where the prepass left the far plane (0).
@@ -625,6 +645,7 @@ impl ForwardRenderer {
                     ("MATERIAL_MODELS", models as f64),
                     ("SHADOW_MAPS", shadow_maps),
                     ("BAKED_MAPS", baked as u32 as f64),
+                    ("ENV_LOBE_TAPS", self.options.environment_taps as f64),
                 ];
                 let add = wgpu::BlendComponent {
                     src_factor: wgpu::BlendFactor::One,

@@ -178,3 +178,15 @@ fn specular_dominant_direction(n: vec3<f32>, r: vec3<f32>, alpha: f32) -> vec3<f
     let s = (1.0 - a) * (sqrt(1.0 - a) + a);
     return normalize(mix(n, r, s));
 }
+
+// Ggx::sample_visible: a microfacet normal drawn from the visible normals
+// D_ωo(m) = G1(ωo) (ωo·m)⁺ D(m) / cos θo (spherical caps, Dupuy & Benyoub
+// 2023), local frame, u ∈ [0,1)².
+fn ggx_sample_visible(alpha: f32, wo: vec3<f32>, u: vec2<f32>) -> vec3<f32> {
+    let wh = normalize(vec3<f32>(alpha * wo.x, alpha * wo.y, wo.z));
+    let phi = 2.0 * PI * u.x;
+    let z = (1.0 - u.y) * (1.0 + wh.z) - wh.z;
+    let s = sqrt(max(1.0 - z * z, 0.0));
+    let h = vec3<f32>(s * cos(phi), s * sin(phi), z) + wh;
+    return normalize(vec3<f32>(alpha * h.x, alpha * h.y, max(h.z, 1e-7)));
+}

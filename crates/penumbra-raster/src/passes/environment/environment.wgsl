@@ -17,6 +17,50 @@ fn environment_radiance(d: vec3<f32>, roughness: f32) -> vec3<f32> {
     return textureSampleLevel(environment_map, environment_sampler, latlong_uv(m), lod).xyz;
 }
 
+// Taps of the glossy lobe per pixel: ENV_LOBE_TAPS² visible-normal samples
+// on a fixed grid (0: one lookup in the dominant direction; host:
+// RasterOptions::environment_taps).
+override ENV_LOBE_TAPS: u32 = 0u;
+
+// The environment's radiance averaged over a glossy lobe of perceptual
+// roughness r seen from s.wo_local: Σ L̃(l_k, r_tap) G2/G1 / Σ G2/G1 over
+// visible-normal samples m_k (l_k their mirror of ωo; the G2/G1 weights of
+// the estimator without F, which the split sum's E holds), each tap read
+// from the map prefiltered at r_tap = r · TAP_ROUGHNESS so the taps blend;
+// with ENV_LOBE_TAPS = 0 the prefiltered map at r along the dominant
+// direction.
+const TAP_ROUGHNESS: f32 = 0.1;
+
+fn glossy_radiance(s: Surface, r: vec3<f32>, roughness: f32) -> vec3<f32> {
+    let alpha = roughness * roughness;
+    let n = s.frame.n;
+    if ENV_LOBE_TAPS == 0u || alpha < 1e-3 {
+        return environment_radiance(specular_dominant_direction(n, r, alpha), roughness);
+    }
+    let wo = s.wo_local;
+    let g1 = 1.0 / (1.0 + ggx_lambda(alpha, wo));
+    var sum = vec3<f32>(0.0);
+    var weight = 0.0;
+    for (var j = 0u; j < ENV_LOBE_TAPS; j++) {
+        for (var i = 0u; i < ENV_LOBE_TAPS; i++) {
+            let u = (vec2<f32>(f32(i), f32(j)) + 0.5) / f32(ENV_LOBE_TAPS);
+            let m = ggx_sample_visible(alpha, wo, u);
+            let l = 2.0 * dot(wo, m) * m - wo;
+            if l.z <= 0.0 {
+                continue;
+            }
+            let w = ggx_g2(alpha, wo, l) / g1;
+            let lw = s.frame.s * l.x + s.frame.t * l.y + n * l.z;
+            sum += w * environment_radiance(lw, roughness * TAP_ROUGHNESS);
+            weight += w;
+        }
+    }
+    if weight <= 0.0 {
+        return environment_radiance(specular_dominant_direction(n, r, alpha), roughness);
+    }
+    return sum / weight;
+}
+
 // Radiance towards the viewer reflected from the environment, kA the
 // ambient occlusion at the surface (1 = open):
 //  - diffuse: c_diff · kA · E_env(n) / π, E_env by SH9;
@@ -46,7 +90,7 @@ fn environment_light(s: Surface, k_a: f32) -> vec3<f32> {
         case ENV_SPEC_SPLIT_SUM: {
             let ab = env_split_sum(mu, em.roughness);
             let e = em.f0 * ab.x + (em.f90 - em.f0) * ab.y;
-            spec = e * environment_radiance(specular_dominant_direction(n, r, alpha), em.roughness);
+            spec = e * glossy_radiance(s, r, em.roughness);
             if any(em.transmit > vec3<f32>(0.0)) {
                 let t = max(vec3<f32>(1.0) - e, vec3<f32>(0.0)) * em.transmit;
                 spec += t * environment_radiance(-wo, em.roughness);
