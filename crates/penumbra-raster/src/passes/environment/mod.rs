@@ -16,8 +16,13 @@
 //!   the Fresnel-weighted directional albedo `f0·A + (f90 − f0)·B` comes
 //!   from the GGX tables already bound for metallic–roughness (the
 //!   Kulla–Conty table, [`penumbra_shading::bsdf::ggx_split_sum`]).
-//!   Delta lobes (mirror, smooth conductor, smooth glass) reflect the map
-//!   itself (level 0) along the mirror direction with their exact F(n·v).
+//!   The prefiltered map is read along the lobe's dominant direction
+//!   (Lagarde & de Rousiers 2014), or, with
+//!   [`crate::RasterOptions::environment_taps`] = N, averaged over N×N
+//!   visible-normal taps of the pixel's own lobe (more accurate, N²
+//!   lookups). Delta lobes (mirror, smooth conductor, smooth glass) reflect
+//!   the map itself (level 0) along the mirror direction with their exact
+//!   F(n·v).
 //! - **Specular occlusion** from kA: `so = saturate((n·v + kA)^(2^(−16α−1))
 //!   − 1 + kA)` (Lagarde & de Rousiers 2014).
 //!
