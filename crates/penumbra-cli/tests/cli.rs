@@ -111,6 +111,22 @@ fn bad_arguments_fail_without_output() {
             "PCF kernel",
         ),
         (
+            &["render", "--env-taps", "4", "-o", "a.png"],
+            "--env-taps applies to --engine raster only",
+        ),
+        (
+            &[
+                "render",
+                "--engine",
+                "raster",
+                "--env-taps",
+                "99",
+                "-o",
+                "a.png",
+            ],
+            "environment taps",
+        ),
+        (
             &[
                 "render",
                 "--engine",

@@ -431,6 +431,83 @@ pub struct GpuAoParams {
     pub _pad0: u32,
 }
 
+/// Environment `GpuEnvMaterial::kind`s, as the WGSL constants `ENV_SPEC_*`
+/// (passes/environment/environment.wgsl says what each reflects).
+pub const ENV_SPEC_NONE: u32 = 0;
+pub const ENV_SPEC_SPLIT_SUM: u32 = 1;
+pub const ENV_SPEC_DELTA_CONSTANT: u32 = 2;
+pub const ENV_SPEC_DELTA_CONDUCTOR: u32 = 3;
+pub const ENV_SPEC_DELTA_DIELECTRIC: u32 = 4;
+
+/// The environment of a frame (WGSL `GpuEnvironment`): its SH9 projection
+/// and how its prefiltered map is looked up.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuEnvironment {
+    /// L_lm (rgb, w unused), order of `penumbra_shading::light::sh9_basis`.
+    pub sh: [[f32; 4]; 9],
+    /// cos α, sin α of the map's rotation about +y.
+    pub rotation_cos: f32,
+    pub rotation_sin: f32,
+    /// Levels of the prefiltered map (perceptual roughness r reads level
+    /// r · (mip_count − 1)).
+    pub mip_count: f32,
+    /// 1: the map is drawn where no geometry is (the background pass).
+    pub background: u32,
+    /// Clip → world of the frame's camera (the background's view rays).
+    pub inv_view_proj: [[f32; 4]; 4],
+}
+
+/// What the environment light needs of one material (WGSL
+/// `GpuEnvMaterial`), made from the Rust `Bsdf` by
+/// [`crate::passes::environment::env_material`].
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuEnvMaterial {
+    /// c_diff (`Bsdf::diffuse_albedo`).
+    pub diffuse: [f32; 3],
+    /// `ENV_SPEC_*`.
+    pub kind: u32,
+    pub f0: [f32; 3],
+    /// Perceptual roughness √α of the specular lobe (0 for delta lobes).
+    pub roughness: f32,
+    pub f90: [f32; 3],
+    /// Smooth dielectric η = n_inside / n_outside.
+    pub ior: f32,
+    /// Smooth conductor: n per band.
+    pub eta: [f32; 3],
+    /// Smooth conductor: [`FRESNEL_EXACT`] or [`FRESNEL_SCHLICK`].
+    pub fresnel: u32,
+    /// Smooth conductor: κ per band.
+    pub k: [f32; 3],
+    /// 1: the diffuse light is scaled by 1 − E_d(μo) (metallic–roughness).
+    pub diffuse_kc: u32,
+    /// Metallic–roughness dielectric (f0, f90), for E_d.
+    pub d_f0: [f32; 3],
+    pub d_f90: f32,
+    /// Weight of the environment seen straight through (transmission).
+    pub transmit: [f32; 3],
+    pub _pad0: f32,
+}
+
+/// One level of the environment prefilter (WGSL `GpuPrefilterParams`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuPrefilterParams {
+    /// GGX α of the level.
+    pub alpha: f32,
+    /// GGX samples per texel.
+    pub samples: u32,
+    /// Size of the level written.
+    pub width: u32,
+    pub height: u32,
+    /// Size of the source map's level 0 and its mip count.
+    pub source_width: f32,
+    pub source_height: f32,
+    pub source_levels: f32,
+    pub _pad0: f32,
+}
+
 /// Host layout of one `#[repr(C)]` GPU struct: its WGSL name, size and
 /// (field name, offset) pairs, from `size_of` and `offset_of!`.
 #[derive(Clone, Debug, PartialEq)]
@@ -578,6 +655,40 @@ pub fn gpu_structs() -> Vec<HostLayout> {
             GpuReceiver,
             "GpuReceiver",
             [plane, plane_eps, _pad0, _pad1, _pad2]
+        ),
+        host_layout!(
+            GpuEnvironment,
+            "GpuEnvironment",
+            [
+                sh,
+                rotation_cos,
+                rotation_sin,
+                mip_count,
+                background,
+                inv_view_proj
+            ]
+        ),
+        host_layout!(
+            GpuEnvMaterial,
+            "GpuEnvMaterial",
+            [
+                diffuse, kind, f0, roughness, f90, ior, eta, fresnel, k, diffuse_kc, d_f0, d_f90,
+                transmit, _pad0
+            ]
+        ),
+        host_layout!(
+            GpuPrefilterParams,
+            "GpuPrefilterParams",
+            [
+                alpha,
+                samples,
+                width,
+                height,
+                source_width,
+                source_height,
+                source_levels,
+                _pad0
+            ]
         ),
     ]
 }

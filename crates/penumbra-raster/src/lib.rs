@@ -37,7 +37,8 @@ pub use context::{AdapterSummary, GpuContext, GpuError, SOFTWARE_VULKAN_PACKAGES
 pub use light_culling::CullingStats;
 pub use passes::lightmap::BakedMaps;
 pub use renderer::{
-    ForwardRenderer, MAX_PCF, RasterOptions, RasterOutput, ShadowMode, map_read, render_scene,
+    ForwardRenderer, MAX_ENVIRONMENT_TAPS, MAX_PCF, RasterOptions, RasterOutput, ShadowMode,
+    map_read, render_scene,
 };
 pub use scene_data::SceneData;
 pub use shadow_map::{

@@ -19,6 +19,9 @@ use crate::gpu::GpuPassParams;
 use crate::light_culling::{CullingStats, LightCulling, MAX_CULLED_LIGHTS};
 use crate::material_tables::{KULLA_CONTY_BINDING, kulla_conty_table};
 use crate::passes::ao::{AoSettings, AoTextures, NORMAL_TARGET_FORMAT, R32Readback, ScreenSpaceAo};
+use crate::passes::environment::{
+    ENVIRONMENT_MATERIALS_BINDING, EnvironmentPass, layout_entries as environment_entries,
+};
 use crate::passes::lightmap::{BAKE_GROUP, BakedMaps, LightmapFrame, bake_layout};
 use crate::planar_shadow::{PlanarFrame, PlanarShadows};
 use crate::receivers::planar_receivers;
@@ -89,7 +92,16 @@ pub struct RasterOptions {
     pub culling_stats: bool,
     /// Screen-space ambient occlusion of the environment term.
     pub ao: AoSettings,
+    /// Glossy environment reflections (see `passes/environment`): 0 = the
+    /// split sum with one lookup of the prefiltered map along the lobe's
+    /// dominant direction; N (1 to [`MAX_ENVIRONMENT_TAPS`]) = the
+    /// prefiltered radiance averaged over N×N visible-normal taps of the
+    /// lobe (N² lookups per pixel), times the same split-sum factor.
+    pub environment_taps: u32,
 }
+
+/// Largest [`RasterOptions::environment_taps`].
+pub const MAX_ENVIRONMENT_TAPS: u32 = 32;
 
 impl Default for RasterOptions {
     fn default() -> Self {
@@ -103,6 +115,7 @@ impl Default for RasterOptions {
             light_culling: true,
             culling_stats: false,
             ao: AoSettings::default(),
+            environment_taps: 0,
         }
     }
 }
@@ -120,8 +133,10 @@ pub struct RasterOutput {
     /// Wall time from submitting the frame to the end of its execution
     /// [ms] (the queue is polled until idle).
     pub frame_ms: f64,
-    /// GPU time of every pass in submission order (names: `"shadow map
-    /// L"`, `"depth prepass"`, `"light culling"`, `"forward"`, `"base"`,
+    /// GPU time of every pass in submission order (names: `"environment
+    /// prefilter"` (in the first frame that shows an environment map),
+    /// `"shadow map L"`, `"background"` (after the lighting passes, with an
+    /// environment map), `"depth prepass"`, `"light culling"`, `"forward"`, `"base"`,
     /// `"shadow volume facing L"`, `"shadow volume stencil L"`, `"planar
     /// shadow L"`, `"light L"`), where the adapter supports timestamp
     /// queries; empty otherwise.
@@ -240,6 +255,8 @@ pub struct ForwardRenderer {
     params_layout: wgpu::BindGroupLayout,
     depth_pipeline: wgpu::RenderPipeline,
     base_pipeline: wgpu::RenderPipeline,
+    /// Draws the environment map where no geometry is.
+    background_pipeline: wgpu::RenderPipeline,
     shadow_pipeline: wgpu::RenderPipeline,
     /// The forward module and layout, for the specialised pipelines.
     module: wgpu::ShaderModule,
@@ -264,6 +281,8 @@ pub struct ForwardRenderer {
     ao: Option<ScreenSpaceAo>,
     /// kA = 1 for frames without screen-space AO (a 1×1 stand-in).
     no_ao: wgpu::TextureView,
+    /// The environment light: prefilter pipeline, sampler, last environment.
+    environment: EnvironmentPass,
     options: RasterOptions,
 }
 
@@ -361,6 +380,12 @@ impl ForwardRenderer {
                 "shadow map size {size} (the adapter allows 16 to {max_dim})"
             )));
         }
+        if options.environment_taps > MAX_ENVIRONMENT_TAPS {
+            return Err(GpuError::Unsupported(format!(
+                "{} environment taps: use 0 to {MAX_ENVIRONMENT_TAPS}",
+                options.environment_taps
+            )));
+        }
         if options.pcf == 0 || options.pcf > MAX_PCF {
             return Err(GpuError::Unsupported(format!(
                 "PCF kernel {}: use 1 to {MAX_PCF}",
@@ -384,6 +409,7 @@ impl ForwardRenderer {
         });
         let vf = wgpu::ShaderStages::VERTEX_FRAGMENT;
         let fragment = wgpu::ShaderStages::FRAGMENT;
+        let env = environment_entries();
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("penumbra forward"),
             entries: &[
@@ -412,7 +438,10 @@ impl ForwardRenderer {
                 storage_entry(KULLA_CONTY_BINDING, fragment, true),
                 storage_entry(10, fragment, true),
                 uniform_entry(11, fragment),
-                storage_entry(19, fragment, true),
+                env[0],
+                env[1],
+                env[2],
+                env[3],
                 wgpu::BindGroupLayoutEntry {
                     binding: SCREEN_AO_BINDING,
                     visibility: fragment,
@@ -519,7 +548,29 @@ impl ForwardRenderer {
                     ("MATERIAL_MODELS", 0.0),
                     ("SHADOW_MAPS", 0.0),
                     ("SCREEN_AO", ao_on as u32 as f64),
+                    ("ENV_LOBE_TAPS", options.environment_taps as f64),
                 ],
+            },
+        );
+        // The environment map where the prepass left the far plane (0).
+        let background_pipeline = build_pipeline(
+            device,
+            &module,
+            &pipeline_layout,
+            PipelineSpec {
+                label: "background",
+                vs: "vs_background",
+                fs: Some("fs_background"),
+                buffers: &[],
+                depth: depth_state(
+                    false,
+                    wgpu::CompareFunction::Equal,
+                    Default::default(),
+                    depth_format,
+                ),
+                blend: None,
+                samples: msaa,
+                constants: &[("MATERIAL_MODELS", 0.0), ("SHADOW_MAPS", 0.0)],
             },
         );
         // One light, added where the stencil is 0 (shadow volumes: count 0;
@@ -573,6 +624,7 @@ impl ForwardRenderer {
             params_layout,
             depth_pipeline,
             base_pipeline,
+            background_pipeline,
             shadow_pipeline,
             module,
             pipeline_layout,
@@ -596,6 +648,7 @@ impl ForwardRenderer {
             no_ao: AoTextures::new(device, 1, 1)
                 .ao
                 .create_view(&Default::default()),
+            environment: EnvironmentPass::new(device),
             options,
         })
     }
@@ -623,6 +676,7 @@ impl ForwardRenderer {
                     ("SHADOW_MAPS", shadow_maps),
                     ("BAKED_MAPS", baked as u32 as f64),
                     ("SCREEN_AO", self.ao.is_some() as u32 as f64),
+                    ("ENV_LOBE_TAPS", self.options.environment_taps as f64),
                 ];
                 let add = wgpu::BlendComponent {
                     src_factor: wgpu::BlendFactor::One,
@@ -890,6 +944,8 @@ impl ForwardRenderer {
         let screen_ao_view = screen_ao
             .as_ref()
             .map(|t| t.ao.create_view(&Default::default()));
+        let environment = self.environment.prepare(ctx, &scene.environment());
+        let [env20, env21, env22] = environment.entries(&self.environment.sampler);
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("penumbra forward"),
             layout: &self.layout,
@@ -911,7 +967,10 @@ impl ForwardRenderer {
                 whole(KULLA_CONTY_BINDING, &self.kulla_conty),
                 whole(10, &culling.tile_lights),
                 whole(11, &culling.uniform_buffer),
-                whole(19, &gpu.ambient),
+                env20,
+                env21,
+                env22,
+                whole(ENVIRONMENT_MATERIALS_BINDING, &gpu.env_materials),
                 wgpu::BindGroupEntry {
                     binding: SCREEN_AO_BINDING,
                     resource: wgpu::BindingResource::TextureView(
@@ -958,8 +1017,10 @@ impl ForwardRenderer {
         let ao_passes = if self.ao.is_some() { 8 } else { 0 };
         let timer = GpuTimer::new(
             ctx,
-            shadow_maps.layers + 5 + ao_passes + stencil_passes * light_count,
+            shadow_maps.layers + 7 + ao_passes + stencil_passes * light_count,
         );
+        let draw_background = environment.is_map();
+        environment.write_view(ctx, (proj * view).inverse(), draw_background);
 
         let readback = ImageReadback::new(device, width, height);
 
@@ -972,6 +1033,8 @@ impl ForwardRenderer {
         });
         let has_stencil = o.shadows.uses_stencil();
         let mut encoder = device.create_command_encoder(&Default::default());
+        self.environment
+            .record_prefilter(&environment, &mut encoder, &timer);
         shadow_maps.record(
             &mut encoder,
             &self.shadow_pipeline,
@@ -1062,6 +1125,21 @@ impl ForwardRenderer {
                 volume_frame.as_ref(),
                 planar_frame.as_ref(),
             );
+        }
+        if draw_background {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("background"),
+                color_attachments: &[Some(targets.colour(wgpu::LoadOp::Load, true))],
+                depth_stencil_attachment: Some(targets.depth_loaded(has_stencil)),
+                timestamp_writes: timer.render_pass("background"),
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_pipeline(&self.background_pipeline);
+            pass.set_bind_group(0, &bind_group, &[]);
+            pass.set_bind_group(1, &params.bind_group, &[0]);
+            pass.set_bind_group(BAKE_GROUP, &lightmaps.bind_group, &[]);
+            pass.draw(0..3, 0..1);
         }
         let aov_targets = (aovs && !bakes.is_empty()).then(|| {
             let t = BakeAovTargets::new(device, width, height, o.msaa);

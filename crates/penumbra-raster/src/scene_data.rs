@@ -6,8 +6,9 @@
 //! and a tessellated emitter (appended after the scene's instances, drawn
 //! with its radiance, casting no shadow: it would hide its own point light).
 
-use crate::gpu::{GpuInstance, GpuLight, GpuMaterial};
-use glam::{Mat3, Mat4, Vec3};
+use crate::gpu::{GpuEnvMaterial, GpuInstance, GpuLight, GpuMaterial};
+use crate::passes::environment::env_material;
+use glam::{Mat3, Mat4};
 use penumbra_scene::{Material, Mesh, Scene, primitives};
 use penumbra_shading::light::{AreaLight, Shape};
 
@@ -22,12 +23,10 @@ pub struct SceneData {
     /// World-space meshes of the area lights (instances
     /// `scene.instances.len()..`), which cast no shadows.
     pub emitters: Vec<Mesh>,
-    /// Per material: the radiance it reflects of the environment taken as
-    /// uniform ambient light, `L̄ · albedo` (rgb, w unused), L̄ the constant
-    /// background or the map's mean radiance. Exact for Lambert under a
-    /// constant environment (the `local` integrator's unoccluded
-    /// environment light gives ρ L); other models use `Bsdf::albedo()`.
-    pub ambient: Vec<[f32; 4]>,
+    /// Per material (emitters of area lights included, which reflect
+    /// nothing): what the environment light needs of it
+    /// ([`crate::passes::environment`]).
+    pub env_materials: Vec<GpuEnvMaterial>,
     /// What the raster path renders differently from the CPU `local`
     /// integrator for this scene.
     pub warnings: Vec<String>,
@@ -108,41 +107,61 @@ impl SceneData {
                     .to_string(),
             );
         }
-        let env = match &scene.environment_map {
-            Some(map) => {
-                warnings.push(
-                    "raster: the environment map lights as uniform ambient light of its mean radiance and is not drawn; the background colour is used"
-                        .to_string(),
-                );
-                map.mean_radiance()
-            }
-            None => scene.background,
-        };
-        let mut ambient: Vec<[f32; 4]> = scene
+        let mut env_materials: Vec<GpuEnvMaterial> = scene
             .materials
             .iter()
-            .map(|m| (env * m.bsdf.albedo()).extend(0.0).to_array())
+            .map(|m| env_material(&m.bsdf))
             .collect();
-        ambient.resize(materials.len(), [0.0; 4]);
-        if env != Vec3::ZERO
-            && scene
-                .materials
-                .iter()
-                .any(|m| !matches!(m.bsdf, penumbra_shading::bsdf::Bsdf::Lambert(_)))
-        {
-            warnings.push(
-                "raster: ambient (environment) light on non-Lambert materials uses their normal-incidence albedo".to_string(),
-            );
-        }
+        env_materials.resize(materials.len(), GpuEnvMaterial::default());
+        warnings.extend(environment_warnings(scene));
         Self {
             lights,
             materials,
             instances,
             emitters,
-            ambient,
+            env_materials,
             warnings,
         }
     }
+}
+
+/// What the environment light approximates for `scene` (see
+/// [`crate::passes::environment`]).
+fn environment_warnings(scene: &Scene) -> Vec<String> {
+    use penumbra_shading::bsdf::Bsdf;
+    let env = scene.environment();
+    if env.is_black() {
+        return Vec::new();
+    }
+    let mut out = Vec::new();
+    if scene.environment_map.is_some() {
+        out.push(
+            "raster: the environment map lights diffuse surfaces by its 9-coefficient spherical-harmonic irradiance and glossy ones by a prefiltered map (split sum)"
+                .to_string(),
+        );
+    }
+    let has = |f: fn(&Bsdf) -> bool| scene.materials.iter().any(|m| f(&m.bsdf));
+    if has(
+        |b| matches!(b, Bsdf::RoughConductor(c) if c.fresnel == penumbra_shading::bsdf::FresnelModel::Exact),
+    ) {
+        out.push(
+            "raster: environment reflections of rough conductors use a Schlick-shaped split sum with F0 = F(cos 0) of n + iκ".to_string(),
+        );
+    }
+    if has(|b| matches!(b, Bsdf::PhongBlinn(_))) {
+        out.push(
+            "raster: Phong–Blinn materials reflect the environment through a GGX lobe of α = √(2/(n+2)) scaled to ks × the lobe's normal-incidence albedo".to_string(),
+        );
+    }
+    if has(|b| b.flags().transmission) {
+        out.push(
+            "raster: transmissive materials show the environment straight through (no refraction, no interior, no objects behind)".to_string(),
+        );
+    }
+    out.push(
+        "raster: environment light is not shadowed by the scene's geometry (only an ambient-occlusion bake darkens it)".to_string(),
+    );
+    out
 }
 
 /// The emitting surface of an area light as a mesh (front side emitting).

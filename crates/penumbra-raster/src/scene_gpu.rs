@@ -175,8 +175,9 @@ pub(crate) struct SceneGpu {
     pub instances: wgpu::Buffer,
     pub materials: wgpu::Buffer,
     pub lights: wgpu::Buffer,
-    /// Per material: reflected ambient light (see `SceneData::ambient`).
-    pub ambient: wgpu::Buffer,
+    /// Per material: what the environment light needs of it (see
+    /// `SceneData::env_materials`).
+    pub env_materials: wgpu::Buffer,
     /// Per mesh (the scene's, then the area lights' emitters); `None` for
     /// meshes without triangles.
     pub meshes: Vec<Option<GpuMesh>>,
@@ -295,10 +296,10 @@ impl SceneGpu {
                 storage,
             ),
             lights: buffer_init(device, "lights", bytemuck::cast_slice(&lights), storage),
-            ambient: buffer_init(
+            env_materials: buffer_init(
                 device,
-                "ambient",
-                bytemuck::cast_slice(&data.ambient),
+                "environment materials",
+                bytemuck::cast_slice(&data.env_materials),
                 storage,
             ),
             meshes,

@@ -17,8 +17,13 @@ pub const SHADING_WGSL: &str = concat!(
 /// The shading library with its Kulla–Conty table source: the storage
 /// buffer at `@group(0) @binding(8)`, which a pipeline binds only if its
 /// entry points evaluate a metallic–roughness material.
+/// It ends with the environment light's structs and functions without
+/// bindings ([`ENVIRONMENT_COMMON_WGSL`]).
 pub fn library() -> String {
-    format!("{SHADING_WGSL}\n{}", kulla_conty_binding_wgsl())
+    format!(
+        "{SHADING_WGSL}\n{}\n{ENVIRONMENT_COMMON_WGSL}",
+        kulla_conty_binding_wgsl()
+    )
 }
 
 /// Host-shared structs of the raster passes (camera, instances, shadows,
@@ -32,6 +37,14 @@ pub const FORWARD_WGSL: &str = include_str!("shaders/forward.wgsl");
 /// Baked maps looked up by the geometry passes (group 2), and the pass that
 /// writes the looked-up values as AOVs.
 pub const LIGHTMAP_WGSL: &str = include_str!("passes/lightmap/lightmap.wgsl");
+
+/// Environment light: the functions without bindings (SH9 irradiance,
+/// lat-long lookups, split sum, GGX samples, specular occlusion).
+pub const ENVIRONMENT_COMMON_WGSL: &str = crate::passes::environment::COMMON_WGSL;
+
+/// Environment light of the forward passes: bindings 20–23 and
+/// `environment_light(s, k_a)`.
+pub const ENVIRONMENT_WGSL: &str = crate::passes::environment::ENVIRONMENT_WGSL;
 
 /// Tiled light culling (compute).
 pub const LIGHT_CULLING_WGSL: &str = include_str!("shaders/light_culling.wgsl");
@@ -47,10 +60,10 @@ pub const SHADOW_VOLUME_DRAW_WGSL: &str = include_str!("shaders/shadow_volume_dr
 pub const PLANAR_SHADOW_WGSL: &str = include_str!("shaders/planar_shadow.wgsl");
 
 /// The complete forward shader module: library + structs + pass + baked
-/// maps.
+/// maps + environment light.
 pub fn forward_source() -> String {
     format!(
-        "{}\n{SCENE_WGSL}\n{FORWARD_WGSL}\n{LIGHTMAP_WGSL}",
+        "{}\n{SCENE_WGSL}\n{FORWARD_WGSL}\n{LIGHTMAP_WGSL}\n{ENVIRONMENT_WGSL}",
         library()
     )
 }
@@ -143,6 +156,10 @@ pub fn all_modules() -> Vec<(&'static str, String)> {
         ("ssao hemisphere", hemisphere_source()),
         ("gtao", gtao_source()),
         ("ao denoise", ao_denoise_source()),
+        (
+            "environment prefilter",
+            crate::passes::environment::prefilter_source(),
+        ),
     ]
 }
 

@@ -44,7 +44,7 @@ pub use conductor::Conductor;
 pub use conductor_presets::{CONDUCTOR_PRESETS, conductor_preset};
 pub use dielectric::Dielectric;
 pub use lambert::Lambert;
-pub use metallic_roughness::{DELTA_ALPHA, MetallicRoughness};
+pub use metallic_roughness::{DELTA_ALPHA, MetallicRoughness, ggx_split_sum};
 pub use microfacet::{Ggx, MIN_ALPHA};
 pub use mirror::Mirror;
 pub use optics::FresnelModel;

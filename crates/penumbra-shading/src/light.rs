@@ -10,6 +10,7 @@ mod environment;
 mod far_field;
 mod homogeneous;
 mod point;
+mod spherical_harmonics;
 mod spot;
 
 pub use area::{AreaLight, Shape, ShapeHit};
@@ -18,6 +19,7 @@ pub use environment::{Environment, EnvironmentMap};
 pub use far_field::FarField;
 pub use homogeneous::HomogeneousLight;
 pub use point::{PointLight, range_window};
+pub use spherical_harmonics::{SH_BAND, SH_COSINE_BANDS, Sh9, sh9_basis};
 pub use spot::SpotLight;
 
 use crate::Rgb;

@@ -8,7 +8,9 @@ use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use penumbra_image::{ToneMapping, ToneOperator, check_output_path, write_image};
 use penumbra_raster::passes::ao::{AoMethod, AoQuality, AoSettings};
-use penumbra_raster::{DEFAULT_SHADOW_MAP_SIZE, MAX_PCF, RasterOptions, ShadowMode};
+use penumbra_raster::{
+    DEFAULT_SHADOW_MAP_SIZE, MAX_ENVIRONMENT_TAPS, MAX_PCF, RasterOptions, ShadowMode,
+};
 use penumbra_scene::{IntegratorKind, RenderSettings, Scene};
 use penumbra_trace::{Progress, RenderOptions, render, scene_camera};
 use std::io::IsTerminal;
@@ -78,6 +80,11 @@ pub struct RenderArgs {
     /// shadows) [default: 1].
     #[arg(long, value_parser = parse_pcf, allow_negative_numbers = true)]
     pub pcf: Option<u32>,
+    /// Raster engine: glossy environment reflections. 0 (default): the split
+    /// sum, one lookup of the prefiltered map per pixel; N: N×N taps of each
+    /// pixel's GGX lobe (N² lookups; more accurate, see docs/raster.md).
+    #[arg(long, value_parser = parse_env_taps)]
+    pub env_taps: Option<u32>,
     /// Raster engine: show a bake directory (`penumbra bake ...`): an AO
     /// bake multiplies the ambient light, a light map or radiosity bake
     /// gives the diffuse light. Repeat for an AO bake and an irradiance bake.
@@ -159,6 +166,15 @@ pub fn shadow_mode(arg: ShadowArg) -> ShadowMode {
         ShadowArg::Map => ShadowMode::Map,
         ShadowArg::Planar => ShadowMode::Planar,
         ShadowArg::Volume => ShadowMode::Volume,
+    }
+}
+
+fn parse_env_taps(s: &str) -> Result<u32, String> {
+    match s.trim().parse::<u32>() {
+        Ok(n) if n <= MAX_ENVIRONMENT_TAPS => Ok(n),
+        _ => Err(format!(
+            "'{s}' is not a number of environment taps (0 to {MAX_ENVIRONMENT_TAPS})"
+        )),
     }
 }
 
@@ -252,6 +268,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
             "--ao-radius (the ray tracer's is --ao-distance)",
         ),
         (args.ao_quality.is_some(), "--ao-quality"),
+        (args.env_taps.is_some(), "--env-taps"),
     ] {
         if set {
             bail!(
@@ -348,6 +365,7 @@ fn render_raster(
             shadow_map_size: args.shadow_map_size.unwrap_or(DEFAULT_SHADOW_MAP_SIZE),
             pcf: args.pcf.unwrap_or(1),
             ao,
+            environment_taps: args.env_taps.unwrap_or(0),
             ..Default::default()
         },
         &maps,

@@ -1,9 +1,10 @@
 // The geometry passes over the scene's instances, one draw per instance:
 //  - vs_depth: the depth prepass (reversed depth, no colour);
 //  - vs_main + fs_forward: per-pixel sum over the lights of the pixel's
-//    tile (tiled light culling) of f · E⊥ · cos θ plus emission and ambient
-//    light, each light optionally weighted by its shadow-map visibility;
-//  - vs_main + fs_base: emission and ambient light only (the base of the
+//    tile (tiled light culling) of f · E⊥ · cos θ plus emission and the
+//    environment light, each light optionally weighted by its shadow-map
+//    visibility;
+//  - vs_main + fs_base: emission and environment light only (the base of the
 //    per-light passes);
 //  - vs_main + fs_light: one light (params.light), added where the stencil
 //    says the light is not shadowed (shadow volumes, planar shadows);
@@ -21,8 +22,8 @@
 @group(0) @binding(7) var shadow_sampler: sampler_comparison;
 @group(0) @binding(10) var<storage, read> tile_lights: array<u32>;
 @group(0) @binding(11) var<uniform> culling: GpuCulling;
-// Per material: the environment's uniform ambient light it reflects.
-@group(0) @binding(19) var<storage, read> ambient: array<vec4<f32>>;
+// The environment light (bindings 20–23) comes from
+// passes/environment/environment.wgsl, appended after this file.
 // Screen-space kA per pixel (passes/ao), with SCREEN_AO.
 @group(0) @binding(24) var screen_ao: texture_2d<f32>;
 @group(1) @binding(0) var<uniform> params: GpuPassParams;
@@ -289,7 +290,7 @@ fn fs_forward(in: VsOut, @builtin(front_facing) facing: bool) -> @location(0) ve
     if !baked.realtime {
         return vec4<f32>(radiance, 1.0);
     }
-    radiance += ambient[s.material].xyz * ambient_occlusion(in);
+    radiance += environment_light(s, ambient_occlusion(in));
     var count = TILE_OVERFLOW;
     var base = 0u;
     if culling.enabled != 0u {
@@ -318,7 +319,7 @@ fn fs_base(in: VsOut, @builtin(front_facing) facing: bool) -> @location(0) vec4<
     let baked = baked_light(s, in);
     var radiance = s.emission + baked.radiance;
     if baked.realtime {
-        radiance += ambient[s.material].xyz * ambient_occlusion(in);
+        radiance += environment_light(s, ambient_occlusion(in));
     }
     return vec4<f32>(radiance, 1.0);
 }

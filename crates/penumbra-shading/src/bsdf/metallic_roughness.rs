@@ -409,6 +409,17 @@ impl MetallicRoughness {
     }
 }
 
+/// The split-sum ("DFG") factors of GGX with Schlick Fresnel (Karis 2013,
+/// "Real Shading in Unreal Engine 4"): the directional albedo of a GGX lobe
+/// of perceptual `roughness` (α = roughness²) at `mu` = cos θo is
+/// `E(μ) = ∫ F(ωo·m) D_ωo(m) G2/G1 dm = f0·A + (f90 − f0)·B` for
+/// `F = f0 + (f90 − f0)(1 − ωo·m)⁵`, so (A, B) = (Karis's scale + bias,
+/// bias) for f90 = 1. The Kulla–Conty table `eval` uses, interpolated
+/// bilinearly in (√μ, √roughness); roughness 0 gives (1, (1 − μ)⁵).
+pub fn ggx_split_sum(mu: f32, roughness: f32) -> (f32, f32) {
+    albedo_table().lookup(mu.clamp(0.0, 1.0), roughness.clamp(0.0, 1.0))
+}
+
 fn mean(c: Rgb) -> f32 {
     (c.x + c.y + c.z) / 3.0
 }

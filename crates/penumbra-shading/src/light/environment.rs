@@ -104,6 +104,18 @@ impl EnvironmentMap {
         self.mean
     }
 
+    /// The texels, row-major (row 0 the zenith), scale applied: the
+    /// piecewise-constant radiance [`EnvironmentMap::eval`] returns.
+    pub fn texels(&self) -> &[Rgb] {
+        &self.texels
+    }
+
+    /// Map → world rotation (R_y(α)): the world direction of map direction
+    /// `m` is `rotation() * m`.
+    pub fn rotation(&self) -> Quat {
+        self.to_world
+    }
+
     /// Map coordinates (u, v) ∈ [0,1]² of a world direction.
     pub fn direction_to_uv(&self, d: Vec3) -> Vec2 {
         let m = self.to_map * d;
