@@ -50,6 +50,18 @@ pub fn parse_seconds(s: &str) -> Result<f64, String> {
     Ok(v)
 }
 
+/// A positive, finite length in scene units (`--ao-radius`, `--ao-distance`).
+pub fn parse_length(s: &str) -> Result<f64, String> {
+    let v: f64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{s}' is not a length"))?;
+    if !(v > 0.0 && v.is_finite()) {
+        return Err(format!("{v} must be a positive length in scene units"));
+    }
+    Ok(v)
+}
+
 /// Loads a scene file; absolute paths the user typed are allowed inside it.
 pub fn load_scene(path: &Path) -> Result<Scene> {
     let mut options = LoadOptions::default();

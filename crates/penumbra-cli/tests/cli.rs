@@ -160,6 +160,50 @@ fn bad_arguments_fail_without_output() {
             &["render", "--engine", "raster", "--aovs", "-o", "a.exr"],
             "--aovs",
         ),
+        (
+            &["render", "--ssao", "gtao", "-o", "a.png"],
+            "--ssao applies to --engine raster only",
+        ),
+        (
+            &["render", "--ao-radius", "2", "-o", "a.png"],
+            "the ray tracer's is --ao-distance",
+        ),
+        (
+            &[
+                "render",
+                "--engine",
+                "raster",
+                "--ao-radius",
+                "2",
+                "-o",
+                "a.png",
+            ],
+            "need --ssao",
+        ),
+        (
+            &[
+                "render",
+                "--engine",
+                "raster",
+                "--ssao",
+                "gtao",
+                "--ao-radius",
+                "0",
+                "-o",
+                "a.png",
+            ],
+            "--ao-radius",
+        ),
+        (
+            &[
+                "render", "--engine", "raster", "--ssao", "sphere", "-o", "a.png",
+            ],
+            "sphere",
+        ),
+        (
+            &["bench", "--ssao", "hemisphere"],
+            "apply to --engine raster only",
+        ),
         (&["compare", "no-ref.exr", "no-test.exr"], "no-ref.exr"),
     ];
     expect_failures(cases, d);

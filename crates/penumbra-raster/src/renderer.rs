@@ -1043,22 +1043,22 @@ impl ForwardRenderer {
             &timer,
         );
         {
-            let normal_attachment =
-                targets
-                    .normal_view
-                    .as_ref()
-                    .map(|view| wgpu::RenderPassColorAttachment {
-                        view,
-                        depth_slice: None,
-                        resolve_target: None,
-                        ops: wgpu::Operations {
-                            load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                            store: wgpu::StoreOp::Store,
-                        },
-                    });
+            let normal_attachment = targets.normal_view.as_ref().map(|view| {
+                Some(wgpu::RenderPassColorAttachment {
+                    view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                        store: wgpu::StoreOp::Store,
+                    },
+                })
+            });
+            // No slot at all without screen-space AO (the plain prepass
+            // pipeline has no colour target).
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("depth prepass"),
-                color_attachments: &[normal_attachment],
+                color_attachments: normal_attachment.as_slice(),
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                     view: &targets.depth_view,
                     depth_ops: Some(wgpu::Operations {

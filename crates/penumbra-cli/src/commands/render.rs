@@ -1,7 +1,8 @@
 //! `penumbra render`.
 
 use crate::options::{
-    check_image_memory, load_scene, parse_positive, parse_resolution, parse_seconds, thread_pool,
+    check_image_memory, load_scene, parse_length, parse_positive, parse_resolution, parse_seconds,
+    thread_pool,
 };
 use anyhow::{Context, Result, bail};
 use clap::{Args, ValueEnum};
@@ -46,7 +47,7 @@ pub struct RenderArgs {
     #[arg(long, value_parser = parse_seconds, allow_negative_numbers = true)]
     pub time_limit: Option<f64>,
     /// Ambient-occlusion ray length in scene units (default: unlimited).
-    #[arg(long, value_parser = parse_seconds, allow_negative_numbers = true)]
+    #[arg(long, value_parser = parse_length, allow_negative_numbers = true)]
     pub ao_distance: Option<f64>,
     /// Also write albedo, normal and depth layers (EXR only).
     #[arg(long)]
@@ -98,7 +99,7 @@ pub struct RenderArgs {
     /// Raster engine, --ssao: radius R in scene units: occluders farther
     /// than R do not occlude, as with `--integrator ao --ao-distance R`
     /// [default: 0.1 × the scene's bounding radius].
-    #[arg(long, value_parser = parse_seconds, allow_negative_numbers = true)]
+    #[arg(long, value_parser = parse_length, allow_negative_numbers = true)]
     pub ao_radius: Option<f64>,
     /// Raster engine, --ssao: sample counts (hemisphere: 8/16/32 points;
     /// gtao: 2×3, 3×6, 4×8 slices × steps per side) [default: medium].
