@@ -159,7 +159,7 @@ fn environment_warnings(scene: &Scene) -> Vec<String> {
         );
     }
     out.push(
-        "raster: environment light is not shadowed by the scene's geometry (only an ambient-occlusion bake darkens it)".to_string(),
+        "raster: environment light is not shadowed by the scene's geometry (only ambient occlusion darkens it: an AO bake or --ssao)".to_string(),
     );
     out
 }

@@ -147,23 +147,20 @@ fn compare_with_tracer(ctx: &GpuContext, name: &str, scene: &Scene, radius: f32)
 }
 
 #[test]
-fn cornell_box_ao_approaches_the_ao_integrator_and_gtao_high_is_closest() {
+fn cornell_box_ao_approaches_the_ao_integrator() {
     let Some(ctx) = common::gpu("screen-space AO, Cornell box") else {
         return;
     };
     let mae = compare_with_tracer(&ctx, "Cornell box", &builtin::cornell_box(), 100.0);
-    // Measured: hemisphere 0.056 / 0.053 / 0.050, GTAO 0.076 / 0.050 /
+    // Measured: hemisphere 0.045 / 0.045 / 0.042, GTAO 0.076 / 0.050 /
     // 0.042 (low / medium / high). Most of what remains is occlusion the
-    // depth buffer cannot see (the back wall behind the tall box).
+    // depth buffer cannot see (the back wall behind the tall box). A 3-D
+    // range check |q − p| < R in the hemisphere method (it loses grazing
+    // walls) read 0.096 and fails here.
+    assert!(mae[2] <= 0.05, "hemisphere high MAE {}", mae[2]);
     assert!(mae[5] <= 0.05, "GTAO high MAE {}", mae[5]);
-    assert!(
-        mae[5] < mae[2],
-        "GTAO high {} vs hemisphere high {}",
-        mae[5],
-        mae[2]
-    );
     for (i, m) in mae.iter().enumerate() {
-        assert!(*m <= 0.09, "case {i}: MAE {m}");
+        assert!(*m <= 0.08, "case {i}: MAE {m}");
     }
 }
 
@@ -205,7 +202,7 @@ fn thin_posts_ao_approaches_the_ao_integrator() {
     // seen past a post is taken as hidden behind a solid wall, so GTAO
     // darkens a band beside each post that rays pass freely, the more so
     // the more steps find it (measured MAE 0.014 / 0.021 / 0.023 against
-    // the kernel's 0.009); both stay within bounds.
+    // the kernel's 0.010 / 0.010 / 0.009); both stay within bounds.
     for (i, m) in mae.iter().enumerate() {
         assert!(*m <= 0.05, "case {i}: MAE {m}");
     }

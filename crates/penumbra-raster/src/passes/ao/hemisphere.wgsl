@@ -3,9 +3,10 @@
 // the pixel's entry of the 4×4 rotation tile. A point s is occluded when
 // the surface q seen at its pixel lies in front of it (view distance), s
 // lies below q's tangent plane and p above it — so the segment p → s,
-// shorter than R, crosses that surface: this is the range check, and it
-// also keeps a far foreground object from occluding (p is behind its
-// plane too). kA ≈ the fraction of points not occluded; the directions are
+// shorter than R, crosses that plane — and the surface is really there:
+// q within R of p, or a surface seen at the crossing point. This is the
+// range check: a far foreground object does not occlude (p is behind its
+// plane too, or its plane's crossing point holds no surface). kA ≈ the fraction of points not occluded; the directions are
 // cosine-distributed, so the fraction estimates the cosine-weighted kA
 // rather than an unweighted one. Points that project off the screen count
 // as open. Appended to common.wgsl.
@@ -15,6 +16,27 @@
 // xyz: direction about +z (cosine-distributed), w: length / R (1).
 @group(0) @binding(3) var<storage, read> kernel: array<vec4<f32>>;
 @group(0) @binding(4) var raw_ao: texture_storage_2d<r32float, write>;
+
+// Whether the point where the segment p → s crosses the plane (q, nq)
+// lies on a surface the depth buffer sees (the surface at its pixel passes
+// within 2 pixel footprints of it): true for a wall seen at a grazing
+// angle, whose point q at the sample's pixel lies far from p; false where
+// only the plane of a far surface reaches between p and s.
+fn crossing_is_seen(p: vec3<f32>, s: vec3<f32>, q: vec3<f32>, nq: vec3<f32>) -> bool {
+    let c = p + (s - p) * (dot(q - p, nq) / dot(s - p, nq));
+    let cpx = ao_project(c);
+    if !ao_on_screen(cpx) || -c.z <= 0.0 {
+        return false;
+    }
+    let texel = vec2<i32>(cpx);
+    let zc = textureLoad(view_depth, texel, 0).x;
+    if zc >= AO_BACKGROUND {
+        return false;
+    }
+    let qc = ao_view_position(floor(cpx) + 0.5, zc);
+    let nc = textureLoad(view_normals, texel, 0).xyz;
+    return abs(dot(c - qc, nc)) <= 2.0 / ao_pixels_per_unit(zc);
+}
 
 @compute @workgroup_size(8, 8)
 fn ssao_hemisphere(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -55,7 +77,9 @@ fn ssao_hemisphere(@builtin(global_invocation_id) id: vec3<u32>) {
         if zs < -s.z && zs < AO_BACKGROUND {
             let q = ao_view_position(floor(spx) + 0.5, zs);
             let nq = textureLoad(view_normals, texel, 0).xyz;
-            occluded = dot(s - q, nq) < -eps && dot(p - q, nq) > eps;
+            if dot(s - q, nq) < -eps && dot(p - q, nq) > eps {
+                occluded = distance(q, p) <= ao.radius || crossing_is_seen(p, s, q, nq);
+            }
         }
         open += select(1.0, 0.0, occluded);
     }
