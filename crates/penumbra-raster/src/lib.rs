@@ -20,6 +20,7 @@ pub mod light_culling;
 pub mod material_tables;
 pub mod passes;
 mod planar_shadow;
+pub mod readback;
 pub mod receivers;
 pub mod renderer;
 pub mod scene_data;

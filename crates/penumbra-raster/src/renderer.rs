@@ -18,12 +18,13 @@ use crate::context::{GpuContext, GpuError};
 use crate::gpu::GpuPassParams;
 use crate::light_culling::{CullingStats, LightCulling, MAX_CULLED_LIGHTS};
 use crate::material_tables::{KULLA_CONTY_BINDING, kulla_conty_table};
-use crate::passes::ao::{AoSettings, AoTextures, NORMAL_TARGET_FORMAT, R32Readback, ScreenSpaceAo};
+use crate::passes::ao::{AoSettings, AoTextures, NORMAL_TARGET_FORMAT, ScreenSpaceAo};
 use crate::passes::environment::{
     ENVIRONMENT_MATERIALS_BINDING, EnvironmentPass, layout_entries as environment_entries,
 };
 use crate::passes::lightmap::{BAKE_GROUP, BakedMaps, LightmapFrame, bake_layout};
 use crate::planar_shadow::{PlanarFrame, PlanarShadows};
+use crate::readback::TextureReadback;
 use crate::receivers::planar_receivers;
 use crate::scene_gpu::{
     PassParams, SceneGpu, buffer_init, params_layout, storage_entry, uniform_entry, whole,
@@ -1022,7 +1023,7 @@ impl ForwardRenderer {
         let draw_background = environment.is_map();
         environment.write_view(ctx, (proj * view).inverse(), draw_background);
 
-        let readback = ImageReadback::new(device, width, height);
+        let readback = TextureReadback::new(device, width, height, 16);
 
         let bg = scene.background;
         let clear = wgpu::LoadOp::Clear(wgpu::Color {
@@ -1159,13 +1160,13 @@ impl ForwardRenderer {
             .map(|t| t.record_readback(device, &mut encoder));
         timer.resolve(&mut encoder);
         LightCulling::record_stats_copy(&mut encoder, &culling);
-        readback.record(&mut encoder, &targets.resolved);
+        readback.record(&mut encoder, &targets.resolved, 0);
         let frame_start = Instant::now();
         ctx.queue.submit([encoder.finish()]);
         ctx.wait_idle()?;
         let frame_ms = frame_start.elapsed().as_secs_f64() * 1e3;
 
-        let image = readback.read(ctx)?;
+        let image = rgba_image(&readback, ctx, width, height)?;
         let mut aovs = match &aov_targets {
             Some(t) => t.read(ctx)?,
             None => Vec::new(),
@@ -1193,12 +1194,12 @@ pub const SCREEN_AO_BINDING: u32 = 24;
 
 /// A single-channel readback as a grey image.
 fn grey_image(
-    r: &R32Readback,
+    r: &TextureReadback,
     ctx: &GpuContext,
     width: u32,
     height: u32,
 ) -> Result<Image, GpuError> {
-    let pixels = r.read(ctx)?.into_iter().map(Vec3::splat).collect();
+    let pixels = r.read_f32(ctx)?.into_iter().map(Vec3::splat).collect();
     Image::from_pixels(width, height, pixels).map_err(|e| GpuError::Wgpu(e.to_string()))
 }
 
@@ -1277,7 +1278,9 @@ struct BakeAovTargets {
     resolved: [wgpu::Texture; 2],
     views: [wgpu::TextureView; 2],
     multisampled: Option<[wgpu::TextureView; 2]>,
-    readbacks: [ImageReadback; 2],
+    readbacks: [TextureReadback; 2],
+    width: u32,
+    height: u32,
 }
 
 impl BakeAovTargets {
@@ -1310,7 +1313,9 @@ impl BakeAovTargets {
             resolved,
             views,
             multisampled,
-            readbacks: [0, 1].map(|_| ImageReadback::new(device, width, height)),
+            readbacks: [0, 1].map(|_| TextureReadback::new(device, width, height, 16)),
+            width,
+            height,
         }
     }
 
@@ -1365,7 +1370,7 @@ impl BakeAovTargets {
             gpu.draw_all(&mut pass, true, 0);
         }
         for (r, t) in self.readbacks.iter().zip(&self.resolved) {
-            r.record(encoder, t);
+            r.record(encoder, t, 0);
         }
     }
 
@@ -1373,74 +1378,24 @@ impl BakeAovTargets {
         self.readbacks
             .iter()
             .zip(Self::NAMES)
-            .map(|(r, n)| Ok((n.to_string(), r.read(ctx)?)))
+            .map(|(r, n)| Ok((n.to_string(), rgba_image(r, ctx, self.width, self.height)?)))
             .collect()
     }
 }
 
-/// The copy of the resolved `Rgba32Float` target into a mappable buffer,
-/// rows padded to the copy alignment.
-struct ImageReadback {
-    buffer: wgpu::Buffer,
-    bytes_per_row: u32,
+/// An `Rgba32Float` readback as an image (alpha dropped).
+fn rgba_image(
+    r: &TextureReadback,
+    ctx: &GpuContext,
     width: u32,
     height: u32,
-}
-
-impl ImageReadback {
-    fn new(device: &wgpu::Device, width: u32, height: u32) -> Self {
-        let bytes_per_row = (width * 16).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
-            * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
-        let buffer = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("readback"),
-            size: bytes_per_row as u64 * height as u64,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        Self {
-            buffer,
-            bytes_per_row,
-            width,
-            height,
-        }
-    }
-
-    fn record(&self, encoder: &mut wgpu::CommandEncoder, texture: &wgpu::Texture) {
-        encoder.copy_texture_to_buffer(
-            wgpu::TexelCopyTextureInfo {
-                texture,
-                mip_level: 0,
-                origin: wgpu::Origin3d::ZERO,
-                aspect: wgpu::TextureAspect::All,
-            },
-            wgpu::TexelCopyBufferInfo {
-                buffer: &self.buffer,
-                layout: wgpu::TexelCopyBufferLayout {
-                    offset: 0,
-                    bytes_per_row: Some(self.bytes_per_row),
-                    rows_per_image: Some(self.height),
-                },
-            },
-            wgpu::Extent3d {
-                width: self.width,
-                height: self.height,
-                depth_or_array_layers: 1,
-            },
-        );
-    }
-
-    /// The image of a submitted frame (row 0 = top).
-    fn read(&self, ctx: &GpuContext) -> Result<Image, GpuError> {
-        let bytes = map_read(ctx, &self.buffer)?;
-        let (w, row_bytes) = (self.width as usize, self.bytes_per_row as usize);
-        let mut pixels = Vec::with_capacity(w * self.height as usize);
-        for y in 0..self.height as usize {
-            let row: &[f32] = bytemuck::cast_slice(&bytes[y * row_bytes..][..w * 16]);
-            pixels.extend(row.chunks_exact(4).map(|p| Vec3::new(p[0], p[1], p[2])));
-        }
-        Image::from_pixels(self.width, self.height, pixels)
-            .map_err(|e| GpuError::Wgpu(e.to_string()))
-    }
+) -> Result<Image, GpuError> {
+    let values = r.read_f32(ctx)?;
+    let pixels = values
+        .chunks_exact(4)
+        .map(|p| Vec3::new(p[0], p[1], p[2]))
+        .collect();
+    Image::from_pixels(width, height, pixels).map_err(|e| GpuError::Wgpu(e.to_string()))
 }
 
 /// Maps a `MAP_READ` buffer and copies its bytes out.

@@ -9,8 +9,9 @@ mod common;
 use glam::{Mat4, Vec2, Vec3};
 use penumbra_image::{Image, hdr_flip};
 use penumbra_raster::passes::ao::{
-    AoMethod, AoQuality, AoSettings, AoTextures, R32Readback, ScreenSpaceAo, gtao_slice_visibility,
+    AoMethod, AoQuality, AoSettings, AoTextures, ScreenSpaceAo, gtao_slice_visibility,
 };
+use penumbra_raster::readback::TextureReadback;
 use penumbra_raster::shaders::GTAO_SLICE_WGSL;
 use penumbra_raster::{BakedMaps, ForwardRenderer, GpuContext, GpuTimer, RasterOptions, map_read};
 use penumbra_scene::camera::{Camera, Projection};
@@ -434,9 +435,10 @@ fn ao_on_hand_made_inputs(ctx: &GpuContext, method: AoMethod, coarse_level: Opti
     let uniform = ao.uniform(device, &params, textures.levels);
     let mut encoder = device.create_command_encoder(&Default::default());
     ao.record_main(device, &mut encoder, &textures, &uniform, &timer);
-    let readback = R32Readback::record(device, &mut encoder, &textures.raw, 0, size, size);
+    let readback = TextureReadback::new(device, size, size, 4);
+    readback.record(&mut encoder, &textures.raw, 0);
     ctx.queue.submit([encoder.finish()]);
-    let values = readback.read(ctx).expect("readback");
+    let values = readback.read_f32(ctx).expect("readback");
     values.iter().map(|&v| v as f64).sum::<f64>() / values.len() as f64
 }
 

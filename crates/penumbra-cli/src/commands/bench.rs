@@ -3,8 +3,8 @@
 //! per pass of the raster path (commands/bench_raster.rs).
 
 use crate::commands::bench_raster::{self, RasterBench};
-use crate::commands::render::{AoQualityArg, Engine, ShadowArg, SsaoArg, ao_settings, shadow_mode};
-use crate::options::{load_scene, parse_length, parse_positive, parse_resolution, thread_pool};
+use crate::commands::render::{AoArgs, Engine, ShadowArg, shadow_mode};
+use crate::options::{load_scene, parse_positive, parse_resolution, thread_pool};
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use glam::{Mat4, Vec3};
@@ -77,16 +77,10 @@ pub struct BenchArgs {
     /// the baseline culling is measured against.
     #[arg(long)]
     pub no_light_culling: bool,
-    /// Raster: screen-space AO (as `penumbra render --ssao`); its passes
-    /// (ao inputs, depth MIPs, the method, denoise) are timed each.
-    #[arg(long, value_enum)]
-    pub ssao: Option<SsaoArg>,
-    /// Raster, --ssao: radius R in scene units (as `render --ao-radius`).
-    #[arg(long, value_parser = parse_length, allow_negative_numbers = true)]
-    pub ao_radius: Option<f64>,
-    /// Raster, --ssao: low, medium or high (as `render --ao-quality`).
-    #[arg(long, value_enum)]
-    pub ao_quality: Option<AoQualityArg>,
+    /// Raster: screen-space AO (as `penumbra render`); its passes (ao
+    /// inputs, depth MIPs, the method, denoise) are timed each.
+    #[command(flatten)]
+    pub ao: AoArgs,
     /// Raster: also measure every light count showing these bake
     /// directories (made for SCENE). Trace: `--bake` alone measures the
     /// bakes' ray throughput beside the path tracer's on SCENE (default:
@@ -170,7 +164,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
     if args.engine == Engine::Raster {
         return run_raster(&args);
     }
-    if args.ssao.is_some() || args.ao_radius.is_some() || args.ao_quality.is_some() {
+    if args.ao.any() {
         bail!("--ssao, --ao-radius and --ao-quality apply to --engine raster only");
     }
     if let Some(dirs) = &args.bake {
@@ -246,7 +240,7 @@ fn run_raster(args: &BenchArgs) -> Result<()> {
             msaa: args.msaa,
             shadows: shadow_mode(args.shadows),
             light_culling: !args.no_light_culling,
-            ao: ao_settings(args.ssao, args.ao_radius, args.ao_quality)?,
+            ao: args.ao.settings()?,
             ..Default::default()
         },
         json: args.json,

@@ -91,6 +91,13 @@ pub struct RenderArgs {
     /// gives the diffuse light. Repeat for an AO bake and an irradiance bake.
     #[arg(long)]
     pub bake: Vec<PathBuf>,
+    #[command(flatten)]
+    pub ao: AoArgs,
+}
+
+/// The screen-space AO flags of `render` and `bench` (raster engine).
+#[derive(Args, Clone, Debug, Default)]
+pub struct AoArgs {
     /// Raster engine: screen-space ambient occlusion of the environment
     /// (ambient) light: none (default), hemisphere (the notes' kernel,
     /// cosine-weighted) or gtao (horizon-based). Direct light is untouched.
@@ -107,6 +114,35 @@ pub struct RenderArgs {
     pub ao_quality: Option<AoQualityArg>,
 }
 
+impl AoArgs {
+    /// Whether any of the flags was given.
+    pub fn any(&self) -> bool {
+        self.ssao.is_some() || self.ao_radius.is_some() || self.ao_quality.is_some()
+    }
+
+    /// The raster path's screen-space AO (`--ao-radius` and `--ao-quality`
+    /// need `--ssao`).
+    pub fn settings(&self) -> Result<AoSettings> {
+        let method = match self.ssao.unwrap_or(SsaoArg::None) {
+            SsaoArg::None => AoMethod::None,
+            SsaoArg::Hemisphere => AoMethod::Hemisphere,
+            SsaoArg::Gtao => AoMethod::Gtao,
+        };
+        if method == AoMethod::None && (self.ao_radius.is_some() || self.ao_quality.is_some()) {
+            bail!("--ao-radius and --ao-quality need --ssao hemisphere|gtao");
+        }
+        Ok(AoSettings {
+            method,
+            radius: self.ao_radius.map(|r| r as f32),
+            quality: match self.ao_quality.unwrap_or(AoQualityArg::Medium) {
+                AoQualityArg::Low => AoQuality::Low,
+                AoQualityArg::Medium => AoQuality::Medium,
+                AoQualityArg::High => AoQuality::High,
+            },
+        })
+    }
+}
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum SsaoArg {
     None,
@@ -119,37 +155,6 @@ pub enum AoQualityArg {
     Low,
     Medium,
     High,
-}
-
-/// The raster path's screen-space AO for `--ssao`, `--ao-radius` and
-/// `--ao-quality` (the last two need the first).
-pub fn ao_settings(
-    ssao: Option<SsaoArg>,
-    radius: Option<f64>,
-    quality: Option<AoQualityArg>,
-) -> Result<AoSettings> {
-    let method = match ssao.unwrap_or(SsaoArg::None) {
-        SsaoArg::None => AoMethod::None,
-        SsaoArg::Hemisphere => AoMethod::Hemisphere,
-        SsaoArg::Gtao => AoMethod::Gtao,
-    };
-    if method == AoMethod::None && (radius.is_some() || quality.is_some()) {
-        bail!("--ao-radius and --ao-quality need --ssao hemisphere|gtao");
-    }
-    if let Some(r) = radius
-        && !(r > 0.0 && r.is_finite())
-    {
-        bail!("--ao-radius {r}: give a positive radius in scene units");
-    }
-    Ok(AoSettings {
-        method,
-        radius: radius.map(|r| r as f32),
-        quality: match quality.unwrap_or(AoQualityArg::Medium) {
-            AoQualityArg::Low => AoQuality::Low,
-            AoQualityArg::Medium => AoQuality::Medium,
-            AoQualityArg::High => AoQuality::High,
-        },
-    })
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -263,12 +268,12 @@ pub fn run(args: RenderArgs) -> Result<()> {
         (args.shadows.is_some(), "--shadows"),
         (args.shadow_map_size.is_some(), "--shadow-map-size"),
         (args.pcf.is_some(), "--pcf"),
-        (args.ssao.is_some(), "--ssao"),
+        (args.ao.ssao.is_some(), "--ssao"),
         (
-            args.ao_radius.is_some(),
+            args.ao.ao_radius.is_some(),
             "--ao-radius (the ray tracer's is --ao-distance)",
         ),
-        (args.ao_quality.is_some(), "--ao-quality"),
+        (args.ao.ao_quality.is_some(), "--ao-quality"),
         (args.env_taps.is_some(), "--env-taps"),
     ] {
         if set {
@@ -333,7 +338,7 @@ fn render_raster(
     settings: &RenderSettings,
     tm: &ToneMapping,
 ) -> Result<()> {
-    let ao = ao_settings(args.ssao, args.ao_radius, args.ao_quality)?;
+    let ao = args.ao.settings()?;
     if args.aovs && args.bake.is_empty() && !ao.enabled() {
         bail!(
             "--aovs with --engine raster writes the ambient-occlusion term (give --ssao hemisphere|gtao) and the looked-up bake values (ao, irradiance: give --bake DIR)"

@@ -22,8 +22,8 @@ pub use settings::{
     gtao_slice_visibility, hemisphere_kernel, jitter_tile,
 };
 
-use crate::context::{GpuContext, GpuError};
 use crate::gpu::GpuAoParams;
+use crate::readback::TextureReadback;
 use crate::scene_gpu::{buffer_init, whole};
 use crate::shaders::{ao_denoise_source, ao_inputs_source, gtao_source, hemisphere_source};
 use crate::timing::GpuTimer;
@@ -100,75 +100,10 @@ impl AoTextures {
         &self,
         device: &wgpu::Device,
         encoder: &mut wgpu::CommandEncoder,
-    ) -> R32Readback {
-        R32Readback::record(device, encoder, &self.ao, 0, self.width, self.height)
-    }
-}
-
-/// A single-channel `f32` texture level copied to a mappable buffer.
-#[derive(Debug)]
-pub struct R32Readback {
-    buffer: wgpu::Buffer,
-    bytes_per_row: u32,
-    width: u32,
-    height: u32,
-}
-
-impl R32Readback {
-    pub fn record(
-        device: &wgpu::Device,
-        encoder: &mut wgpu::CommandEncoder,
-        texture: &wgpu::Texture,
-        level: u32,
-        width: u32,
-        height: u32,
-    ) -> Self {
-        let align = wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
-        let bytes_per_row = (width * 4).div_ceil(align) * align;
-        let buffer = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("r32 readback"),
-            size: bytes_per_row as u64 * height as u64,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        encoder.copy_texture_to_buffer(
-            wgpu::TexelCopyTextureInfo {
-                texture,
-                mip_level: level,
-                origin: wgpu::Origin3d::ZERO,
-                aspect: wgpu::TextureAspect::All,
-            },
-            wgpu::TexelCopyBufferInfo {
-                buffer: &buffer,
-                layout: wgpu::TexelCopyBufferLayout {
-                    offset: 0,
-                    bytes_per_row: Some(bytes_per_row),
-                    rows_per_image: Some(height),
-                },
-            },
-            wgpu::Extent3d {
-                width,
-                height,
-                depth_or_array_layers: 1,
-            },
-        );
-        Self {
-            buffer,
-            bytes_per_row,
-            width,
-            height,
-        }
-    }
-
-    /// The values of a submitted copy, row 0 = top.
-    pub fn read(&self, ctx: &GpuContext) -> Result<Vec<f32>, GpuError> {
-        let bytes = crate::renderer::map_read(ctx, &self.buffer)?;
-        let (w, row) = (self.width as usize, self.bytes_per_row as usize);
-        let mut out = Vec::with_capacity(w * self.height as usize);
-        for y in 0..self.height as usize {
-            out.extend_from_slice(bytemuck::cast_slice(&bytes[y * row..][..w * 4]));
-        }
-        Ok(out)
+    ) -> TextureReadback {
+        let r = TextureReadback::new(device, self.width, self.height, 4);
+        r.record(encoder, &self.ao, 0);
+        r
     }
 }
 

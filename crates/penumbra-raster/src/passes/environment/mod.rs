@@ -390,47 +390,15 @@ impl EnvironmentGpu {
     ) -> Result<(Vec<Rgb>, u32, u32), crate::GpuError> {
         let w = (self._map.width() >> level).max(1);
         let h = (self._map.height() >> level).max(1);
-        let row = (w * 8).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
-            * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
-        let buffer = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("prefiltered level"),
-            size: (row * h) as u64,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let readback = crate::readback::TextureReadback::new(&ctx.device, w, h, 8);
         let mut encoder = ctx.device.create_command_encoder(&Default::default());
-        encoder.copy_texture_to_buffer(
-            wgpu::TexelCopyTextureInfo {
-                texture: &self._map,
-                mip_level: level,
-                origin: wgpu::Origin3d::ZERO,
-                aspect: wgpu::TextureAspect::All,
-            },
-            wgpu::TexelCopyBufferInfo {
-                buffer: &buffer,
-                layout: wgpu::TexelCopyBufferLayout {
-                    offset: 0,
-                    bytes_per_row: Some(row),
-                    rows_per_image: Some(h),
-                },
-            },
-            wgpu::Extent3d {
-                width: w,
-                height: h,
-                depth_or_array_layers: 1,
-            },
-        );
+        readback.record(&mut encoder, &self._map, level);
         ctx.queue.submit([encoder.finish()]);
-        let bytes = crate::renderer::map_read(ctx, &buffer)?;
-        let mut out = Vec::with_capacity((w * h) as usize);
-        for y in 0..h as usize {
-            let texels: &[u16] = bytemuck::cast_slice(&bytes[y * row as usize..][..w as usize * 8]);
-            out.extend(
-                texels
-                    .chunks_exact(4)
-                    .map(|t| Rgb::new(f16_value(t[0]), f16_value(t[1]), f16_value(t[2]))),
-            );
-        }
+        let half: Vec<u16> = bytemuck::pod_collect_to_vec(&readback.read(ctx)?);
+        let out = half
+            .chunks_exact(4)
+            .map(|t| Rgb::new(f16_value(t[0]), f16_value(t[1]), f16_value(t[2])))
+            .collect();
         Ok((out, w, h))
     }
 
