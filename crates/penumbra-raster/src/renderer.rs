@@ -280,7 +280,7 @@ pub struct ForwardRenderer {
     kulla_conty: wgpu::Buffer,
     /// Screen-space AO (with [`RasterOptions::ao`]).
     ao: Option<ScreenSpaceAo>,
-    /// kA = 1 for frames without screen-space AO (a 1×1 stand-in).
+    /// Bound instead of the AO term in frames without screen-space AO.
     no_ao: wgpu::TextureView,
     /// The environment light: prefilter pipeline, sampler, last environment.
     environment: EnvironmentPass,
@@ -646,9 +646,7 @@ impl ForwardRenderer {
                 wgpu::BufferUsages::STORAGE,
             ),
             ao: ao_on.then(|| ScreenSpaceAo::new(device, options.ao, msaa)),
-            no_ao: AoTextures::new(device, 1, 1)
-                .ao
-                .create_view(&Default::default()),
+            no_ao: unit_ao(device),
             environment: EnvironmentPass::new(device),
             options,
         })
@@ -1166,14 +1164,14 @@ impl ForwardRenderer {
         ctx.wait_idle()?;
         let frame_ms = frame_start.elapsed().as_secs_f64() * 1e3;
 
-        let image = rgba_image(&readback, ctx, width, height)?;
+        let image = image_of(&readback, ctx, (width, height), 4)?;
         let mut aovs = match &aov_targets {
             Some(t) => t.read(ctx)?,
             None => Vec::new(),
         };
         if let Some(r) = &ao_readback {
             aovs.retain(|(name, _)| name != "ao");
-            aovs.insert(0, ("ao".to_string(), grey_image(r, ctx, width, height)?));
+            aovs.insert(0, ("ao".to_string(), image_of(r, ctx, (width, height), 1)?));
         }
         let passes = timer.read(ctx)?;
         let culling_stats = LightCulling::stats(ctx, &culling)?;
@@ -1192,15 +1190,41 @@ impl ForwardRenderer {
 /// Group-0 binding of the screen-space AO texture in the geometry passes.
 pub const SCREEN_AO_BINDING: u32 = 24;
 
-/// A single-channel readback as a grey image.
-fn grey_image(
+/// A float readback of `channels` per texel (1: grey; 4: RGBA, alpha
+/// dropped) as an image.
+fn image_of(
     r: &TextureReadback,
     ctx: &GpuContext,
-    width: u32,
-    height: u32,
+    (width, height): (u32, u32),
+    channels: usize,
 ) -> Result<Image, GpuError> {
-    let pixels = r.read_f32(ctx)?.into_iter().map(Vec3::splat).collect();
+    let pixels = r
+        .read_f32(ctx)?
+        .chunks_exact(channels)
+        .map(|p| match p {
+            [v] => Vec3::splat(*v),
+            _ => Vec3::new(p[0], p[1], p[2]),
+        })
+        .collect();
     Image::from_pixels(width, height, pixels).map_err(|e| GpuError::Wgpu(e.to_string()))
+}
+
+/// The 1×1 `R32Float` texture bound at [`SCREEN_AO_BINDING`] in frames
+/// without screen-space AO; never read (their pipelines have `SCREEN_AO`
+/// false, so kA = 1).
+fn unit_ao(device: &wgpu::Device) -> wgpu::TextureView {
+    device
+        .create_texture(&wgpu::TextureDescriptor {
+            label: Some("no screen-space ao"),
+            size: wgpu::Extent3d::default(),
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::R32Float,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        })
+        .create_view(&Default::default())
 }
 
 /// What the raster path approximates when it shows `bakes`.
@@ -1378,24 +1402,14 @@ impl BakeAovTargets {
         self.readbacks
             .iter()
             .zip(Self::NAMES)
-            .map(|(r, n)| Ok((n.to_string(), rgba_image(r, ctx, self.width, self.height)?)))
+            .map(|(r, n)| {
+                Ok((
+                    n.to_string(),
+                    image_of(r, ctx, (self.width, self.height), 4)?,
+                ))
+            })
             .collect()
     }
-}
-
-/// An `Rgba32Float` readback as an image (alpha dropped).
-fn rgba_image(
-    r: &TextureReadback,
-    ctx: &GpuContext,
-    width: u32,
-    height: u32,
-) -> Result<Image, GpuError> {
-    let values = r.read_f32(ctx)?;
-    let pixels = values
-        .chunks_exact(4)
-        .map(|p| Vec3::new(p[0], p[1], p[2]))
-        .collect();
-    Image::from_pixels(width, height, pixels).map_err(|e| GpuError::Wgpu(e.to_string()))
 }
 
 /// Maps a `MAP_READ` buffer and copies its bytes out.

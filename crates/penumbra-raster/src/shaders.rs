@@ -103,6 +103,8 @@ pub fn planar_shadow_source() -> String {
 /// Screen-space AO: what every AO pass shares (`GpuAoParams`, position
 /// reconstruction).
 pub const AO_COMMON_WGSL: &str = include_str!("passes/ao/common.wgsl");
+/// The AO inputs as the hemisphere, GTAO and denoise passes read them.
+pub const AO_SURFACE_WGSL: &str = include_str!("passes/ao/surface.wgsl");
 /// GTAO's slice integral (also used by the tests' twin kernel).
 pub const GTAO_SLICE_WGSL: &str = include_str!("passes/ao/slice.wgsl");
 
@@ -121,7 +123,7 @@ pub fn ao_inputs_source(multisampled: bool) -> String {
 /// The hemisphere SSAO module.
 pub fn hemisphere_source() -> String {
     format!(
-        "{AO_COMMON_WGSL}\n{}",
+        "{AO_COMMON_WGSL}\n{AO_SURFACE_WGSL}\n{}",
         include_str!("passes/ao/hemisphere.wgsl")
     )
 }
@@ -129,7 +131,7 @@ pub fn hemisphere_source() -> String {
 /// The GTAO module.
 pub fn gtao_source() -> String {
     format!(
-        "{AO_COMMON_WGSL}\n{GTAO_SLICE_WGSL}\n{}",
+        "{AO_COMMON_WGSL}\n{AO_SURFACE_WGSL}\n{GTAO_SLICE_WGSL}\n{}",
         include_str!("passes/ao/gtao.wgsl")
     )
 }
@@ -137,7 +139,7 @@ pub fn gtao_source() -> String {
 /// The AO denoise module.
 pub fn ao_denoise_source() -> String {
     format!(
-        "{AO_COMMON_WGSL}\n{}",
+        "{AO_COMMON_WGSL}\n{AO_SURFACE_WGSL}\n{}",
         include_str!("passes/ao/denoise.wgsl")
     )
 }

@@ -154,6 +154,47 @@ struct Surface {
     lit: u32,
 }
 
+// Unit vector from world point p towards the viewer.
+fn view_direction(p: vec3<f32>) -> vec3<f32> {
+    if camera.back.w > 0.5 {
+        return camera.back.xyz;
+    }
+    return normalize(camera.eye.xyz - p);
+}
+
+struct VisibleNormals {
+    // Geometric normal on the viewer's (wo's) side.
+    ng: vec3<f32>,
+    // Shading normal (the interpolated vertex normal, else ng) on ng's side.
+    ns: vec3<f32>,
+}
+
+// The fragment's normals on the visible side. ng_raw = cross(dpdx(p),
+// dpdy(p)), taken by the entry point.
+fn visible_normals(in: VsOut, wo: vec3<f32>, ng_raw: vec3<f32>) -> VisibleNormals {
+    var ng = ng_raw;
+    let ng_len2 = dot(ng, ng);
+    if ng_len2 > 0.0 {
+        ng = ng * inverseSqrt(ng_len2);
+    } else {
+        ng = wo;
+    }
+    if dot(ng, wo) < 0.0 {
+        ng = -ng;
+    }
+    var ns = ng;
+    if instances[in.instance].has_normals != 0u {
+        let n2 = dot(in.normal, in.normal);
+        if n2 > 0.0 {
+            ns = in.normal * inverseSqrt(n2);
+            if dot(ns, ng) < 0.0 {
+                ns = -ns;
+            }
+        }
+    }
+    return VisibleNormals(ng, ns);
+}
+
 // The fragment as a surface. ng_raw = cross(dpdx(p), dpdy(p)), taken by the
 // entry point (derivatives need uniform control flow).
 fn surface_of(in: VsOut, facing: bool, ng_raw: vec3<f32>) -> Surface {
@@ -164,12 +205,7 @@ fn surface_of(in: VsOut, facing: bool, ng_raw: vec3<f32>) -> Surface {
     s.p = p;
     s.material = inst.material;
 
-    var wo: vec3<f32>;
-    if camera.back.w > 0.5 {
-        wo = camera.back.xyz;
-    } else {
-        wo = normalize(camera.eye.xyz - p);
-    }
+    let wo = view_direction(p);
     // Front side as the CPU defines it: the object-space winding, kept
     // through mirroring transforms.
     let front = facing != (inst.flip_winding != 0u);
@@ -185,29 +221,9 @@ fn surface_of(in: VsOut, facing: bool, ng_raw: vec3<f32>) -> Surface {
         s.mat = material_seen_from_back(mat);
     }
 
-    // Normals on the visible side, the shading normal on the side of ng.
-    var ng = ng_raw;
-    let ng_len2 = dot(ng, ng);
-    if ng_len2 > 0.0 {
-        ng = ng * inverseSqrt(ng_len2);
-    } else {
-        ng = wo;
-    }
-    if dot(ng, wo) < 0.0 {
-        ng = -ng;
-    }
-    s.ng = ng;
-    var ns = ng;
-    if inst.has_normals != 0u {
-        let n2 = dot(in.normal, in.normal);
-        if n2 > 0.0 {
-            ns = in.normal * inverseSqrt(n2);
-            if dot(ns, ng) < 0.0 {
-                ns = -ns;
-            }
-        }
-    }
-    s.frame = frame_from_normal(ns);
+    let n = visible_normals(in, wo, ng_raw);
+    s.ng = n.ng;
+    s.frame = frame_from_normal(n.ns);
     var wo_local = to_local(s.frame, wo);
     if wo_local.z <= 0.0 {
         wo_local.z = 1e-4;
@@ -257,10 +273,11 @@ fn ambient_occlusion(in: VsOut) -> f32 {
 // normal on the viewer's side (world space) and the view distance at the
 // pixel centre (the distance from the camera plane, −z_view).
 @fragment
-fn fs_ao_prepass(in: VsOut, @builtin(front_facing) facing: bool) -> @location(0) vec4<f32> {
-    let s = surface_of(in, facing, cross(dpdx(in.world), dpdy(in.world)));
+fn fs_ao_prepass(in: VsOut) -> @location(0) vec4<f32> {
+    // Only the normals of surface_of: no material work in the prepass.
+    let n = visible_normals(in, view_direction(in.world), cross(dpdx(in.world), dpdy(in.world)));
     let z = dot(camera.eye.xyz - in.world, camera.back.xyz);
-    return vec4<f32>(s.frame.n, max(z, 1e-30));
+    return vec4<f32>(n.ns, max(z, 1e-30));
 }
 
 // The same times the light's shadow-map visibility (1 without a map).

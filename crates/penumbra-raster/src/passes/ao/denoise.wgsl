@@ -7,10 +7,8 @@
 // weight, so the blur never crosses an edge; the mean is clamped to
 // [0, 1] (GTAO's raw slices may exceed 1). Background pixels get 0 (as
 // the `ao` integrator gives where a camera ray escapes). Appended to
-// common.wgsl.
+// common.wgsl + surface.wgsl.
 
-@group(0) @binding(1) var view_depth: texture_2d<f32>;
-@group(0) @binding(2) var view_normals: texture_2d<f32>;
 @group(0) @binding(3) var raw_ao: texture_2d<f32>;
 @group(0) @binding(4) var ao_out: texture_storage_2d<r32float, write>;
 
@@ -20,14 +18,14 @@ fn ao_denoise(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let px = vec2<i32>(id.xy);
-    let z = textureLoad(view_depth, px, 0).x;
-    if z >= AO_BACKGROUND {
+    let here = ao_surface_at(px);
+    if !here.valid {
         textureStore(ao_out, id.xy, vec4<f32>(0.0));
         return;
     }
-    let p = ao_view_position(vec2<f32>(id.xy) + 0.5, z);
-    let n = textureLoad(view_normals, px, 0).xyz;
-    let tau = 2.0 / ao_pixels_per_unit(z);
+    let p = here.p;
+    let n = here.n;
+    let tau = 2.0 / ao_pixels_per_unit(here.z);
     let last = vec2<i32>(ao.size) - 1;
     var sum = 0.0;
     var weight = 0.0;
@@ -37,13 +35,11 @@ fn ao_denoise(@builtin(global_invocation_id) id: vec3<u32>) {
             if any(q_px < vec2<i32>(0)) || any(q_px > last) {
                 continue;
             }
-            let zq = textureLoad(view_depth, q_px, 0).x;
-            if zq >= AO_BACKGROUND {
+            let q = ao_surface_at(q_px);
+            if !q.valid {
                 continue;
             }
-            let q = ao_view_position(vec2<f32>(q_px) + 0.5, zq);
-            let nq = textureLoad(view_normals, q_px, 0).xyz;
-            let w = saturate(1.0 - abs(dot(n, q - p)) / tau) * saturate((dot(n, nq) - 0.8) / 0.2);
+            let w = saturate(1.0 - abs(dot(n, q.p - p)) / tau) * saturate((dot(n, q.n) - 0.8) / 0.2);
             sum += w * textureLoad(raw_ao, q_px, 0).x;
             weight += w;
         }

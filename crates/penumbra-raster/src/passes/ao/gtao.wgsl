@@ -8,10 +8,8 @@
 // average it counts what a hard cut at R counts); then the cosine-weighted
 // slice integral with the projected normal (slice.wgsl). For a height
 // field this integrates exactly the visibility kA. Appended to
-// common.wgsl + slice.wgsl.
+// common.wgsl + surface.wgsl + slice.wgsl.
 
-@group(0) @binding(1) var view_depth: texture_2d<f32>;
-@group(0) @binding(2) var view_normals: texture_2d<f32>;
 @group(0) @binding(4) var raw_ao: texture_storage_2d<r32float, write>;
 
 // Sample offsets below 2^MIP_OFFSET pixels read level 0, each doubling one
@@ -70,16 +68,16 @@ fn gtao(@builtin(global_invocation_id) id: vec3<u32>) {
     if any(id.xy >= vec2<u32>(ao.size)) {
         return;
     }
-    let px = vec2<i32>(id.xy);
-    let z = textureLoad(view_depth, px, 0).x;
-    if z >= AO_BACKGROUND {
+    let here = ao_surface_at(vec2<i32>(id.xy));
+    if !here.valid {
         textureStore(raw_ao, id.xy, vec4<f32>(1.0));
         return;
     }
     let centre = vec2<f32>(id.xy) + 0.5;
-    let p = ao_view_position(centre, z);
+    let z = here.z;
+    let p = here.p;
     let v = ao_view_vector(p);
-    let nrm = textureLoad(view_normals, px, 0).xyz;
+    let nrm = here.n;
     // R on screen; below about a pixel nothing can be resolved.
     let r_px = ao.radius * ao_pixels_per_unit(z);
     if r_px < 1.5 {

@@ -9,11 +9,9 @@
 // plane too, or its plane's crossing point holds no surface). kA ≈ the fraction of points not occluded; the directions are
 // cosine-distributed, so the fraction estimates the cosine-weighted kA
 // rather than an unweighted one. Points that project off the screen count
-// as open. Appended to common.wgsl.
+// as open. Appended to common.wgsl + surface.wgsl.
 
-@group(0) @binding(1) var view_depth: texture_2d<f32>;
-@group(0) @binding(2) var view_normals: texture_2d<f32>;
-// xyz: direction about +z (cosine-distributed), w: length / R (1).
+// xyz: unit direction about +z (cosine-distributed); w unused.
 @group(0) @binding(3) var<storage, read> kernel: array<vec4<f32>>;
 @group(0) @binding(4) var raw_ao: texture_storage_2d<r32float, write>;
 
@@ -28,14 +26,8 @@ fn crossing_is_seen(p: vec3<f32>, s: vec3<f32>, q: vec3<f32>, nq: vec3<f32>) -> 
     if !ao_on_screen(cpx) || -c.z <= 0.0 {
         return false;
     }
-    let texel = vec2<i32>(cpx);
-    let zc = textureLoad(view_depth, texel, 0).x;
-    if zc >= AO_BACKGROUND {
-        return false;
-    }
-    let qc = ao_view_position(floor(cpx) + 0.5, zc);
-    let nc = textureLoad(view_normals, texel, 0).xyz;
-    return abs(dot(c - qc, nc)) <= 2.0 / ao_pixels_per_unit(zc);
+    let seen = ao_surface_at(vec2<i32>(cpx));
+    return seen.valid && abs(dot(c - seen.p, seen.n)) <= 2.0 / ao_pixels_per_unit(seen.z);
 }
 
 @compute @workgroup_size(8, 8)
@@ -43,14 +35,13 @@ fn ssao_hemisphere(@builtin(global_invocation_id) id: vec3<u32>) {
     if any(id.xy >= vec2<u32>(ao.size)) {
         return;
     }
-    let px = vec2<i32>(id.xy);
-    let z = textureLoad(view_depth, px, 0).x;
-    if z >= AO_BACKGROUND {
+    let here = ao_surface_at(vec2<i32>(id.xy));
+    if !here.valid {
         textureStore(raw_ao, id.xy, vec4<f32>(1.0));
         return;
     }
-    let p = ao_view_position(vec2<f32>(id.xy) + 0.5, z);
-    let n = textureLoad(view_normals, px, 0).xyz;
+    let p = here.p;
+    let n = here.n;
     // A tangent frame about n (Duff et al. 2017), turned by the tile angle.
     let sign = select(-1.0, 1.0, n.z >= 0.0);
     let a = -1.0 / (sign + n.z);
@@ -65,20 +56,18 @@ fn ssao_hemisphere(@builtin(global_invocation_id) id: vec3<u32>) {
     var open = 0.0;
     for (var i = 0u; i < ao.samples; i++) {
         let k = kernel[i];
-        let s = p + (t * k.x + bt * k.y + n * k.z) * (k.w * ao.radius);
+        let s = p + (t * k.x + bt * k.y + n * k.z) * ao.radius;
         let spx = ao_project(s);
         if !ao_on_screen(spx) || -s.z <= 0.0 {
             open += 1.0;
             continue;
         }
-        let texel = vec2<i32>(spx);
-        let zs = textureLoad(view_depth, texel, 0).x;
+        let seen = ao_surface_at(vec2<i32>(spx));
         var occluded = false;
-        if zs < -s.z && zs < AO_BACKGROUND {
-            let q = ao_view_position(floor(spx) + 0.5, zs);
-            let nq = textureLoad(view_normals, texel, 0).xyz;
-            if dot(s - q, nq) < -eps && dot(p - q, nq) > eps {
-                occluded = distance(q, p) <= ao.radius || crossing_is_seen(p, s, q, nq);
+        if seen.valid && seen.z < -s.z {
+            let q = seen.p;
+            if dot(s - q, seen.n) < -eps && dot(p - q, seen.n) > eps {
+                occluded = distance(q, p) <= ao.radius || crossing_is_seen(p, s, q, seen.n);
             }
         }
         open += select(1.0, 0.0, occluded);

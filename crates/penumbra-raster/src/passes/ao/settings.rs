@@ -105,7 +105,7 @@ pub fn default_radius(bounds: (Vec3, Vec3)) -> f32 {
 /// +z, directions cosine-distributed (Malley's method on a Hammersley set:
 /// the i-th direction from the cell centres ((i + ½)/n, radical inverse of
 /// i + ½/n)), so the fraction of open points estimates the cosine-weighted
-/// kA; w = 1 is the length in units of R. Every point sits at R: a point
+/// kA; w is padding (0): every point sits at distance R. A point
 /// at distance r that lies behind a surface the depth buffer sees means the
 /// ray towards it was blocked before r, so the point at R finds every
 /// occluder within R that a nearer point finds, and more (measured on the
@@ -121,7 +121,7 @@ pub fn hemisphere_kernel(n: u32) -> Vec<[f32; 4]> {
                 (radical_inverse(2, i) + 0.5 / n as f32).fract(),
             ];
             let d = square_to_cosine_hemisphere(u);
-            [d.x, d.y, d.z, 1.0]
+            [d.x, d.y, d.z, 0.0]
         })
         .collect()
 }
@@ -188,7 +188,7 @@ mod tests {
         for p in &k {
             let len = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
             assert!((len - 1.0).abs() < 1e-5 && p[2] > 0.0);
-            assert_eq!(p[3], 1.0);
+            assert_eq!(p[3], 0.0);
         }
     }
 

@@ -213,44 +213,20 @@ pub fn gpu_environment(env: &Environment, sh: &Sh9, mip_count: u32) -> GpuEnviro
     }
 }
 
-/// IEEE half-precision bits of `x` (round to nearest even; beyond the
-/// half range clamped to ±65504, non-finite to 0).
+/// IEEE half-precision bits of `x` (the `half` crate: round to nearest
+/// even); beyond the half range clamped to ±65504, non-finite to 0.
 pub fn f16_bits(x: f32) -> u16 {
     let x = if x.is_finite() {
         x.clamp(-65504.0, 65504.0)
     } else {
         0.0
     };
-    let b = x.to_bits();
-    let sign = ((b >> 16) & 0x8000) as u16;
-    let exp = ((b >> 23) & 0xff) as i32 - 127 + 15;
-    let man = b & 0x7f_ffff;
-    let round = |v: u32, rem: u32, halfway: u32| {
-        v + u32::from(rem > halfway || (rem == halfway && v & 1 == 1))
-    };
-    if exp <= 0 {
-        if exp < -10 {
-            return sign;
-        }
-        let m = man | 0x80_0000;
-        let shift = (14 - exp) as u32;
-        let v = round(m >> shift, m & ((1 << shift) - 1), 1 << (shift - 1));
-        return sign | v as u16;
-    }
-    let v = round(((exp as u32) << 10) | (man >> 13), man & 0x1fff, 0x1000);
-    sign | v as u16
+    half::f16::from_f32(x).to_bits()
 }
 
 /// The value of IEEE half-precision bits.
 pub fn f16_value(bits: u16) -> f32 {
-    let sign = if bits & 0x8000 != 0 { -1.0 } else { 1.0 };
-    let exp = ((bits >> 10) & 0x1f) as i32;
-    let man = (bits & 0x3ff) as f32;
-    sign * match exp {
-        0 => man * 2f32.powi(-24),
-        31 => f32::INFINITY,
-        e => (1.0 + man / 1024.0) * 2f32.powi(e - 15),
-    }
+    half::f16::from_bits(bits).to_f32()
 }
 
 /// One level of a lat-long mip chain.
