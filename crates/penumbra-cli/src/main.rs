@@ -27,6 +27,8 @@ enum Command {
     Compare(commands::compare::CompareArgs),
     /// Precompute ambient occlusion, irradiance light maps or radiosity into a light-map atlas.
     Bake(commands::bake::BakeArgs),
+    /// Render a scene with every technique and report each one's error against the path-traced truth and its cost (HTML, JSON, CSV).
+    Study(commands::study::StudyArgs),
     /// Measure BVH build and ray-tracing throughput, and path-tracing speed.
     Bench(commands::bench::BenchArgs),
 }
@@ -39,6 +41,7 @@ fn main() -> ExitCode {
         Command::Compare(a) => commands::compare::run(a),
         Command::Bench(a) => commands::bench::run(a),
         Command::Bake(a) => commands::bake::run(a),
+        Command::Study(a) => commands::study::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -5,3 +5,4 @@ pub mod bench_raster;
 pub mod compare;
 pub mod info;
 pub mod render;
+pub mod study;

@@ -1,0 +1,100 @@
+//! The errors of a row: the same functions `penumbra compare` uses
+//! (relMSE, HDR-FLIP mean), plus the FLIP 99th percentile and the mean
+//! ratio per channel.
+
+use crate::row::Errors;
+use penumbra_image::{Image, ImageError, hdr_flip, rel_mse};
+
+/// The errors of `test` against `truth`, and the per-pixel FLIP map.
+pub fn errors(truth: &Image, test: &Image) -> Result<(Errors, Image), ImageError> {
+    let (flip_mean, map) = hdr_flip(truth, test)?;
+    let errors = Errors {
+        rel_mse: rel_mse(truth, test),
+        flip_mean,
+        flip_p99: percentile(map.pixels.iter().map(|p| f64::from(p[0])).collect(), 0.99),
+        mean_ratio: mean_ratio(truth, test),
+    };
+    Ok((errors, map))
+}
+
+/// mean(test) / mean(truth) per channel, summed in f64; NaN where the
+/// truth's channel is black.
+pub fn mean_ratio(truth: &Image, test: &Image) -> [f64; 3] {
+    let sum = |img: &Image, c: usize| -> f64 { img.pixels.iter().map(|p| f64::from(p[c])).sum() };
+    std::array::from_fn(|c| {
+        let r = sum(truth, c);
+        if r > 0.0 { sum(test, c) / r } else { f64::NAN }
+    })
+}
+
+/// The `q`-quantile of `values` by the nearest-rank rule (the smallest value
+/// with at least ⌈qN⌉ values at or below it); NaN for no values.
+pub fn percentile(mut values: Vec<f64>, q: f64) -> f64 {
+    if values.is_empty() {
+        return f64::NAN;
+    }
+    values.sort_by(f64::total_cmp);
+    let rank = ((q * values.len() as f64).ceil() as usize).clamp(1, values.len());
+    values[rank - 1]
+}
+
+/// The relMSE of an estimate of the mean from its variance:
+/// `(1/N) Σ Var[mean] / (r² + 0.01)` over pixels and channels, the
+/// expected relMSE of the image against its own limit.
+pub fn noise_rel_mse(mean: &Image, variance: &Image) -> f64 {
+    let n = 3 * mean.pixels.len();
+    let sum: f64 = mean
+        .pixels
+        .iter()
+        .zip(&variance.pixels)
+        .flat_map(|(m, v)| (0..3).map(move |c| (f64::from(m[c]), f64::from(v[c]))))
+        .map(|(m, v)| v / (m * m + 0.01))
+        .sum();
+    sum / n.max(1) as f64
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use penumbra_image::Rgb;
+
+    #[test]
+    fn nearest_rank_percentile() {
+        let v: Vec<f64> = (1..=100).map(f64::from).collect();
+        assert_eq!(percentile(v.clone(), 0.99), 99.0);
+        assert_eq!(percentile(v.clone(), 1.0), 100.0);
+        assert_eq!(percentile(v, 0.5), 50.0);
+        assert_eq!(percentile(vec![3.0, 1.0, 2.0], 0.0), 1.0);
+        assert!(percentile(Vec::new(), 0.5).is_nan());
+    }
+
+    #[test]
+    fn mean_ratio_per_channel() {
+        let truth = Image::filled(4, 2, Rgb::new(1.0, 2.0, 0.0));
+        let mut test = Image::filled(4, 2, Rgb::new(1.5, 1.0, 1.0));
+        test.set(0, 0, Rgb::new(0.5, 1.0, 1.0));
+        let r = mean_ratio(&truth, &test);
+        // red: (7·1.5 + 0.5)/8 = 1.375; green 0.5; blue: black truth.
+        assert!((r[0] - 1.375).abs() < 1e-12);
+        assert!((r[1] - 0.5).abs() < 1e-12);
+        assert!(r[2].is_nan());
+    }
+
+    #[test]
+    fn noise_estimate_matches_the_formula() {
+        let mean = Image::filled(2, 2, Rgb::new(0.3, 0.0, 1.0));
+        let var = Image::filled(2, 2, Rgb::new(0.001, 0.002, 0.004));
+        let want = (0.001 / (0.09 + 0.01) + 0.002 / 0.01 + 0.004 / 1.01) / 3.0;
+        assert!((noise_rel_mse(&mean, &var) / want - 1.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn identical_images_have_no_error() {
+        let img = Image::from_fn(8, 8, |x, y| Rgb::new(x as f32 * 0.1, y as f32 * 0.2, 0.5));
+        let (e, _) = errors(&img, &img).unwrap();
+        assert_eq!(e.rel_mse, 0.0);
+        assert_eq!(e.flip_mean, 0.0);
+        assert_eq!(e.flip_p99, 0.0);
+        assert_eq!(e.mean_ratio, [1.0; 3]);
+    }
+}
