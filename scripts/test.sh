@@ -13,6 +13,15 @@ if command -v apt-get >/dev/null 2>&1 && ! dpkg -s mesa-vulkan-drivers >/dev/nul
   $SUDO apt-get install -y -qq mesa-vulkan-drivers libvulkan1 >/dev/null || echo "warning: could not install mesa-vulkan-drivers" >&2
 fi
 
+# The study report test (crates/penumbra-study/tests/report_browser.rs) opens
+# index.html in headless Chromium; install it when apt is available. Without
+# it that test fails and says so (PENUMBRA_SKIP_BROWSER=1 skips it).
+if command -v apt-get >/dev/null 2>&1 && ! dpkg -s chromium >/dev/null 2>&1; then
+  SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+  $SUDO apt-get update -qq || true
+  $SUDO apt-get install -y -qq chromium >/dev/null || echo "warning: could not install chromium; the study report test will fail (set PENUMBRA_SKIP_BROWSER=1 to skip it)" >&2
+fi
+
 # The glTF export test checks its files with the Khronos glTF validator (npm
 # package gltf-validator, pinned with its lock file in tools/gltf-validator/);
 # install it with npm when missing. Without npm the test fails and says so

@@ -13,8 +13,8 @@ pub enum StudyError {
     File { path: PathBuf, message: String },
     #[error(transparent)]
     Image(#[from] penumbra_image::ImageError),
-    #[error("the report: {0}")]
-    Report(String),
+    #[error(transparent)]
+    Report(#[from] crate::report::ReportError),
 }
 
 impl StudyError {

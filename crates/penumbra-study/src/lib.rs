@@ -23,6 +23,7 @@ pub mod technique;
 pub mod truth;
 
 pub use error::StudyError;
+pub use report::{ReportError, write_report};
 pub use row::{Cost, EqualTime, Errors, Row, Skipped, Study, Truth};
 pub use study::{StudyOptions, StudyProgress, run_study};
 pub use technique::{Technique, TruthKind, parse_list};

@@ -193,7 +193,7 @@ pub fn run_study(
         skipped,
         total_seconds: start.elapsed().as_secs_f64(),
     };
-    crate::report::write_report(out, &study).map_err(|e| StudyError::Report(e.to_string()))?;
+    crate::report::write_report(out, &study)?;
     staging.finish(dir)?;
     Ok(study)
 }
