@@ -235,7 +235,9 @@ pub struct GpuInstance {
     pub material: u32,
     pub has_normals: u32,
     pub flip_winding: u32,
-    pub _pad0: u32,
+    /// 1: the emitter of an analytic area light, which is a light and not
+    /// a surface (the `ao` integrator gives it kA = 0).
+    pub light_shape: u32,
 }
 
 impl GpuInstance {
@@ -246,7 +248,7 @@ impl GpuInstance {
             material,
             has_normals: has_normals as u32,
             flip_winding: (Mat3::from_mat4(transform).determinant() < 0.0) as u32,
-            _pad0: 0,
+            light_shape: 0,
         }
     }
 }
@@ -595,7 +597,14 @@ pub fn gpu_structs() -> Vec<HostLayout> {
         host_layout!(
             GpuInstance,
             "GpuInstance",
-            [model, normal, material, has_normals, flip_winding, _pad0]
+            [
+                model,
+                normal,
+                material,
+                has_normals,
+                flip_winding,
+                light_shape
+            ]
         ),
         host_layout!(
             GpuShadow,

@@ -87,12 +87,15 @@ impl SceneData {
             let m = GpuMaterial::from_bsdf(&emitter.bsdf, emitter.emission, emitter.double_sided);
             mesh.material = materials.len();
             materials.push(m);
-            instances.push(GpuInstance::new(
-                Mat4::IDENTITY,
-                Mat3::IDENTITY,
-                mesh.material as u32,
-                mesh.normals.is_some(),
-            ));
+            instances.push(GpuInstance {
+                light_shape: 1,
+                ..GpuInstance::new(
+                    Mat4::IDENTITY,
+                    Mat3::IDENTITY,
+                    mesh.material as u32,
+                    mesh.normals.is_some(),
+                )
+            });
             emitters.push(mesh);
         }
         if !scene.area_lights.is_empty() {

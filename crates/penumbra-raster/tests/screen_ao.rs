@@ -552,3 +552,75 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {{
         );
     }
 }
+
+/// An analytic area light is a light, not a surface: where a camera ray
+/// meets one the `ao` integrator gives kA = 0, and so must the screen-space
+/// methods (they once gave ≈ 1 there). An emissive mesh is a surface and
+/// keeps its kA in both.
+#[test]
+fn analytic_lights_have_no_ambient_occlusion_term() {
+    let Some(ctx) = common::gpu("screen-space AO, analytic lights") else {
+        return;
+    };
+    let study_box = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../scenes/study/cornell-box.toml");
+    let analytic =
+        penumbra_scene::load_scene(&study_box, &penumbra_scene::LoadOptions::default()).unwrap();
+    assert_eq!(analytic.area_lights.len(), 1);
+    for (scene, want) in [(analytic, 0.0), (builtin::cornell_box(), 1.0)] {
+        let size = 128;
+        let geometry = SceneGeometry::build(&scene, BuildQuality::default());
+        let camera = scene_camera(&scene);
+        let on_light: Vec<bool> = (0..size * size)
+            .map(|i| {
+                let (o, d) = camera.generate_ray(
+                    (i % size) as f32 + 0.5,
+                    (i / size) as f32 + 0.5,
+                    size,
+                    size,
+                );
+                geometry
+                    .intersect(&scene, &Ray::new(o, d))
+                    .is_some_and(|h| h.light.is_some() || scene.materials[h.material].is_emissive())
+            })
+            .collect();
+        // Pixels whose centre and 4 neighbours see the light.
+        let interior: Vec<usize> = (0..on_light.len())
+            .filter(|&i| {
+                let (x, y) = ((i as u32 % size) as i32, (i as u32 / size) as i32);
+                [(0, 0), (-1i32, 0i32), (1, 0), (0, -1), (0, 1)]
+                    .iter()
+                    .all(|(dx, dy)| on_light[((y + dy) as u32 * size + (x + dx) as u32) as usize])
+            })
+            .collect();
+        assert!(
+            interior.len() > 20,
+            "{} interior light pixels",
+            interior.len()
+        );
+        let cpu = cpu_ao(&scene, size, 100.0, 16);
+        for &i in &interior {
+            assert_eq!(cpu.pixels[i].x, want, "the ao integrator on the light");
+        }
+        for method in METHODS {
+            let (gpu, _) = raster_ao(
+                &ctx,
+                &scene,
+                size,
+                1,
+                settings(method, AoQuality::Low, 100.0),
+            );
+            let off = interior
+                .iter()
+                .filter(|&&i| (gpu.pixels[i].x - want).abs() > 0.05)
+                .count();
+            assert_eq!(
+                off,
+                0,
+                "{}: kA differs from {want} on {off} of {} light pixels",
+                method.name(),
+                interior.len()
+            );
+        }
+    }
+}

@@ -271,13 +271,17 @@ fn ambient_occlusion(in: VsOut) -> f32 {
 
 // Depth prepass with screen-space AO: the normal target gets the shading
 // normal on the viewer's side (world space) and the view distance at the
-// pixel centre (the distance from the camera plane, −z_view).
+// pixel centre (the distance from the camera plane, −z_view), negated on
+// the emitters of analytic area lights.
 @fragment
 fn fs_ao_prepass(in: VsOut) -> @location(0) vec4<f32> {
     // Only the normals of surface_of: no material work in the prepass.
     let n = visible_normals(in, view_direction(in.world), cross(dpdx(in.world), dpdy(in.world)));
-    let z = dot(camera.eye.xyz - in.world, camera.back.xyz);
-    return vec4<f32>(n.ns, max(z, 1e-30));
+    let z = max(dot(camera.eye.xyz - in.world, camera.back.xyz), 1e-30);
+    // Analytic lights are not surfaces (kA = 0, as the `ao` integrator
+    // gives): marked by a negative distance; they still occlude others.
+    let light = instances[in.instance].light_shape != 0u;
+    return vec4<f32>(n.ns, select(z, -z, light));
 }
 
 // The same times the light's shadow-map visibility (1 without a map).

@@ -22,7 +22,8 @@ struct GpuInstance {
     material: u32,
     has_normals: u32,
     flip_winding: u32,
-    _pad0: u32,
+    // 1: the emitter of an analytic area light (a light, not a surface).
+    light_shape: u32,
 }
 
 // How each light is shadowed by a shadow map, indexed like the lights;

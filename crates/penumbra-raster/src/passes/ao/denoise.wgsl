@@ -5,8 +5,10 @@
 // τ = 2 pixel footprints at p: neighbours off p's tangent plane (another
 // object, a depth discontinuity) or with another orientation get no
 // weight, so the blur never crosses an edge; the mean is clamped to
-// [0, 1] (GTAO's raw slices may exceed 1). Background pixels get 0 (as
-// the `ao` integrator gives where a camera ray escapes). Appended to
+// [0, 1] (GTAO's raw slices may exceed 1). Background pixels and analytic
+// area lights (zero normal) get 0, as the `ao` integrator gives where a
+// camera ray escapes or meets such a light (emissive meshes are surfaces
+// and keep their kA); zero normals get no weight as neighbours. Appended to
 // common.wgsl + surface.wgsl.
 
 @group(0) @binding(3) var raw_ao: texture_2d<f32>;
@@ -19,7 +21,7 @@ fn ao_denoise(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let px = vec2<i32>(id.xy);
     let here = ao_surface_at(px);
-    if !here.valid {
+    if !here.valid || all(here.n == vec3<f32>(0.0)) {
         textureStore(ao_out, id.xy, vec4<f32>(0.0));
         return;
     }

@@ -1,6 +1,6 @@
 // AO inputs: the prepass's normal target (world normal, view distance at
 // the pixel centre; sample 0 of a multisampled target) becomes view-space
-// normals and level 0 of the view-distance MIP chain; `ao_depth_mip` builds
+// normals (zero on analytic lights) and level 0 of the view-distance MIP chain; `ao_depth_mip` builds
 // each further level from the one below it. Appended to common.wgsl;
 // PREPASS_TEXTURE is replaced by the host.
 
@@ -20,6 +20,9 @@ fn ao_inputs(@builtin(global_invocation_id) id: vec3<u32>) {
     if t.w > 0.0 {
         z = t.w;
         n = normalize((ao.view * vec4<f32>(t.xyz, 0.0)).xyz);
+    } else if t.w < 0.0 {
+        // An analytic light: its depth occludes, its zero normal says kA = 0.
+        z = -t.w;
     }
     textureStore(depth_out, id.xy, vec4<f32>(z, 0.0, 0.0, 0.0));
     textureStore(normals_out, id.xy, vec4<f32>(n, 0.0));
