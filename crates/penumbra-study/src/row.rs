@@ -27,9 +27,10 @@ pub struct Cost {
     /// Frame time (raster: submit to finish of the frame's GPU work) or
     /// render time (ray tracer, BVH build excluded) [s].
     pub seconds: f64,
-    /// Peak resident memory of the process while the row ran [MiB]
-    /// (`None` where the OS does not tell). On a software rasteriser
-    /// (lavapipe) GPU memory is host memory and is included.
+    /// How far the process's resident memory rose above its size at the
+    /// row's start, at its peak [MiB] (`None` where the OS does not tell).
+    /// On a software rasteriser (lavapipe) GPU memory is host memory and is
+    /// included.
     pub peak_memory_mib: Option<f64>,
 }
 

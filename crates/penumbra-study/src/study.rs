@@ -161,7 +161,7 @@ pub fn run_study(
         let (id, label) = (technique.id(), technique.label());
         progress(&label, stage, stages);
         stage += 1;
-        crate::memory::reset_peak();
+        let memory = crate::memory::PeakMemory::start();
         let produced = match runner.run(technique) {
             Ok(p) => p,
             Err(reason) => {
@@ -169,7 +169,7 @@ pub fn run_study(
                 continue;
             }
         };
-        let peak_memory_mib = crate::memory::peak_mib();
+        let peak_memory_mib = memory.rise_mib();
         let row = finish_row(
             technique,
             produced,

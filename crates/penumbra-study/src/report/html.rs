@@ -133,9 +133,9 @@ const COLUMNS: &[Column] = &[
     },
     Column {
         key: "peak-memory-mib",
-        title: "peak MiB",
+        title: "memory MiB",
         numeric: true,
-        tip: "peak resident memory while the row ran",
+        tip: "how far resident memory rose above its size at the row's start, at its peak",
     },
 ];
 
@@ -268,7 +268,7 @@ impl<'a> RowView<'a> {
             cost += &format!(" + bake {} s", seconds(b));
         }
         if let Some(m) = r.cost.peak_memory_mib {
-            cost += &format!(" · peak {m:.0} MiB");
+            cost += &format!(" · memory +{m:.0} MiB at peak");
         }
         metrics.push(("cost".into(), cost));
         metrics.push(("engine".into(), r.engine.clone()));

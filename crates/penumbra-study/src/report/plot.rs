@@ -77,6 +77,8 @@ pub fn error_vs_time_svg(study: &Study) -> String {
             .configure_mesh()
             .x_desc("frame / render time [s] (bakes excluded)")
             .y_desc("relMSE vs full GI")
+            .x_label_formatter(&|v| axis_number(*v))
+            .y_label_formatter(&|v| axis_number(*v))
             .label_style(("sans-serif", 15))
             .axis_desc_style(("sans-serif", 16))
             .draw()?;
@@ -168,5 +170,40 @@ mod tests {
         // No rows at all: still a plot.
         study.rows.clear();
         assert!(error_vs_time_svg(&study).starts_with("<svg"));
+    }
+}
+
+/// A tick label of a log axis: 3 significant digits, no float noise
+/// (0.30000000000000004 is "0.3").
+fn axis_number(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return format!("{v}");
+    }
+    let digits = (2 - v.abs().log10().floor() as i32).max(0) as usize;
+    if v.abs() >= 1e-3 && v.abs() < 1e5 {
+        let s = format!("{v:.digits$}");
+        let s = if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            s
+        };
+        s
+    } else {
+        format!("{v:.2e}")
+    }
+}
+
+#[cfg(test)]
+mod axis_tests {
+    use super::axis_number;
+
+    #[test]
+    fn tick_labels_have_no_float_noise() {
+        assert_eq!(axis_number(0.1 + 0.2), "0.3");
+        assert_eq!(axis_number(0.001), "0.001");
+        assert_eq!(axis_number(2.0), "2");
+        assert_eq!(axis_number(12.5), "12.5");
+        assert_eq!(axis_number(300.0), "300");
+        assert_eq!(axis_number(2.5e-5), "2.50e-5");
     }
 }
