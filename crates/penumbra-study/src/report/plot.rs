@@ -182,12 +182,11 @@ fn axis_number(v: f64) -> String {
     let digits = (2 - v.abs().log10().floor() as i32).max(0) as usize;
     if v.abs() >= 1e-3 && v.abs() < 1e5 {
         let s = format!("{v:.digits$}");
-        let s = if s.contains('.') {
+        if s.contains('.') {
             s.trim_end_matches('0').trim_end_matches('.').to_string()
         } else {
             s
-        };
-        s
+        }
     } else {
         format!("{v:.2e}")
     }
