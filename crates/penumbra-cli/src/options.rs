@@ -71,6 +71,30 @@ pub fn load_scene(path: &Path) -> Result<Scene> {
     Ok(penumbra_scene::load_scene(path, &options)?)
 }
 
+/// The scene file, or the built-in Cornell box without one; prints the
+/// loader's warnings.
+pub fn scene_or_builtin(path: Option<&Path>) -> Result<Scene> {
+    let scene = match path {
+        Some(p) => load_scene(p)?,
+        None => penumbra_scene::builtin::cornell_box(),
+    };
+    for w in &scene.warnings {
+        eprintln!("penumbra: warning: {w}");
+    }
+    Ok(scene)
+}
+
+/// Parses an MSAA sample count of the raster engine (1 or 4).
+pub fn parse_msaa(s: &str) -> Result<u32, String> {
+    match s.trim() {
+        "1" => Ok(1),
+        "4" => Ok(4),
+        _ => Err(format!(
+            "'{s}' is not a supported MSAA sample count (1 or 4)"
+        )),
+    }
+}
+
 /// Refuses image sizes whose buffers would not fit in memory.
 pub fn check_image_memory(width: u32, height: u32, bytes_per_pixel: u64) -> Result<()> {
     let need = width as u64 * height as u64 * bytes_per_pixel;

@@ -1,20 +1,10 @@
 //! The `penumbra` binary: errors exit non-zero, name the problem and leave no
 //! output file; good runs write the file.
 
+mod common;
+
+use common::{files_in, penumbra, stderr};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn penumbra(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_penumbra"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("run penumbra")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
 
 fn reference(scene: &str, file: &str) -> String {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -23,15 +13,6 @@ fn reference(scene: &str, file: &str) -> String {
         .join(file)
         .display()
         .to_string()
-}
-
-fn files_in(dir: &Path) -> Vec<String> {
-    let mut v: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    v.sort();
-    v
 }
 
 /// Each (arguments, expected text) case fails, names the problem, does not

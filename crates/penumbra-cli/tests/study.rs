@@ -2,20 +2,10 @@
 //! report's numbers against `penumbra compare`, and bad input refused with
 //! no report left behind.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
-fn penumbra(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_penumbra"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("run penumbra")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
+use common::{files_in, penumbra, stderr};
+use std::path::PathBuf;
 
 fn scene(name: &str) -> String {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -23,15 +13,6 @@ fn scene(name: &str) -> String {
         .join(name)
         .display()
         .to_string()
-}
-
-fn files_in(dir: &Path) -> Vec<String> {
-    let mut v: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    v.sort();
-    v
 }
 
 fn skip_gpu(test: &str) -> bool {

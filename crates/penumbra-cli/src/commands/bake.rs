@@ -1,7 +1,7 @@
 //! `penumbra bake ao | lightmap | radiosity`: precompute a quantity per
 //! texel of the scene's light-map atlas and write a bake directory.
 
-use crate::options::{load_scene, parse_positive, thread_pool};
+use crate::options::{parse_positive, scene_or_builtin, thread_pool};
 use anyhow::{Context, Result, bail};
 use clap::{Args, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -160,14 +160,7 @@ impl CommonArgs {
     }
 
     fn load(&self) -> Result<Scene> {
-        let scene = match &self.scene {
-            Some(p) => load_scene(p)?,
-            None => penumbra_scene::builtin::cornell_box(),
-        };
-        for w in &scene.warnings {
-            eprintln!("penumbra: warning: {w}");
-        }
-        Ok(scene)
+        scene_or_builtin(self.scene.as_deref())
     }
 
     fn scene_name(&self) -> String {

@@ -1,8 +1,8 @@
 //! `penumbra render`.
 
 use crate::options::{
-    check_image_memory, load_scene, parse_length, parse_positive, parse_resolution, parse_seconds,
-    thread_pool,
+    check_image_memory, parse_length, parse_msaa, parse_positive, parse_resolution, parse_seconds,
+    scene_or_builtin, thread_pool,
 };
 use anyhow::{Context, Result, bail};
 use clap::{Args, ValueEnum};
@@ -197,16 +197,6 @@ pub enum Engine {
     Raster,
 }
 
-fn parse_msaa(s: &str) -> Result<u32, String> {
-    match s.trim() {
-        "1" => Ok(1),
-        "4" => Ok(4),
-        _ => Err(format!(
-            "'{s}' is not a supported MSAA sample count (1 or 4)"
-        )),
-    }
-}
-
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum ToneArg {
     Filmic,
@@ -216,13 +206,7 @@ pub enum ToneArg {
 pub fn run(args: RenderArgs) -> Result<()> {
     // Check the output before spending time on loading and rendering.
     check_output_path(&args.output)?;
-    let scene = match &args.scene {
-        Some(p) => load_scene(p)?,
-        None => penumbra_scene::builtin::cornell_box(),
-    };
-    for w in &scene.warnings {
-        eprintln!("penumbra: warning: {w}");
-    }
+    let scene = scene_or_builtin(args.scene.as_deref())?;
     let mut settings = scene.settings.clone();
     if let Some(i) = args.integrator {
         settings.integrator = i;

@@ -1,7 +1,9 @@
 //! `penumbra study`: every technique of the notes against the path-traced
 //! truth, in one report (see the penumbra-study crate and docs/study.md).
 
-use crate::options::{load_scene, parse_positive, parse_resolution, parse_seconds, thread_pool};
+use crate::options::{
+    parse_msaa, parse_positive, parse_resolution, parse_seconds, scene_or_builtin, thread_pool,
+};
 use anyhow::{Result, bail};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
@@ -72,16 +74,6 @@ fn parse_relmse(s: &str) -> Result<f64, String> {
     Ok(v)
 }
 
-fn parse_msaa(s: &str) -> Result<u32, String> {
-    match s.trim() {
-        "1" => Ok(1),
-        "4" => Ok(4),
-        _ => Err(format!(
-            "'{s}' is not a supported MSAA sample count (1 or 4)"
-        )),
-    }
-}
-
 pub fn run(args: StudyArgs) -> Result<()> {
     let techniques =
         parse_list(&args.techniques).map_err(|e| anyhow::anyhow!("--techniques: {e}"))?;
@@ -91,13 +83,7 @@ pub fn run(args: StudyArgs) -> Result<()> {
     {
         bail!("--reference {}: no such file", r.display());
     }
-    let scene = match &args.scene {
-        Some(p) => load_scene(p)?,
-        None => penumbra_scene::builtin::cornell_box(),
-    };
-    for w in &scene.warnings {
-        eprintln!("penumbra: warning: {w}");
-    }
+    let scene = scene_or_builtin(args.scene.as_deref())?;
     let mut settings = scene.settings.clone();
     if let Some((w, h)) = args.resolution {
         settings.width = w;

@@ -1,0 +1,28 @@
+//! What the command-line tests share: running the binary, its stderr, the
+//! files a run left.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+/// Runs `penumbra ARGS` in `dir`.
+pub fn penumbra(args: &[&str], dir: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_penumbra"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("run penumbra")
+}
+
+pub fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// The names in `dir`, sorted.
+pub fn files_in(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
