@@ -10,26 +10,17 @@ fn reference_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/reference/cornell")
 }
 
-/// scene.json, or the copy of its relevant part below if the reference
-/// folder is not there.
+/// The reference scene.json; a missing reference is a failure, not a
+/// skipped check.
 fn scene_json() -> String {
-    std::fs::read_to_string(reference_dir().join("scene.json")).unwrap_or_else(|_| {
-        eprintln!("reference scene.json not found; using the embedded copy");
-        FALLBACK_JSON.to_string()
+    let path = reference_dir().join("scene.json");
+    std::fs::read_to_string(&path).unwrap_or_else(|e| {
+        panic!(
+            "{}: {e} (the shared reference scenes are needed)",
+            path.display()
+        )
     })
 }
-
-const FALLBACK_JSON: &str = r#"{ "camera": { "position": [278, 273, -800], "look_at": [278, 273, -799],
- "up": [0, 1, 0], "fov_y_deg": 39.30764811610662, "resolution": [512, 512] },
- "objects": [
- { "name": "floor", "albedo": [0.885809, 0.698859, 0.666422], "emission": [0, 0, 0] },
- { "name": "ceiling", "albedo": [0.885809, 0.698859, 0.666422], "emission": [0, 0, 0] },
- { "name": "backwall", "albedo": [0.885809, 0.698859, 0.666422], "emission": [0, 0, 0] },
- { "name": "redwall", "albedo": [0.570068, 0.0430135, 0.0443706], "emission": [0, 0, 0] },
- { "name": "greenwall", "albedo": [0.105421, 0.37798, 0.076425], "emission": [0, 0, 0] },
- { "name": "shortbox", "albedo": [0.885809, 0.698859, 0.666422], "emission": [0, 0, 0] },
- { "name": "tallbox", "albedo": [0.885809, 0.698859, 0.666422], "emission": [0, 0, 0] },
- { "name": "light", "albedo": [0, 0, 0], "emission": [18.387, 13.9873, 6.75357] } ] }"#;
 
 /// The numbers of the first `"key": [ … ]` or `"key": n` in `text`.
 fn json_numbers(text: &str, key: &str) -> Vec<f64> {
@@ -79,26 +70,51 @@ fn triangles(scene: &Scene, name: &str) -> Vec<[Vec3; 3]> {
         .collect()
 }
 
-fn obj_triangles(name: &str) -> Option<Vec<[Vec3; 3]>> {
-    let text = std::fs::read_to_string(reference_dir().join(format!("{name}.obj"))).ok()?;
+fn obj_triangles(name: &str) -> Vec<[Vec3; 3]> {
+    let path = reference_dir().join(format!("{name}.obj"));
+    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| {
+        panic!(
+            "{}: {e} (the shared reference scenes are needed)",
+            path.display()
+        )
+    });
     let mut v = Vec::new();
     let mut tris = Vec::new();
-    for line in text.lines() {
+    for (n, line) in text.lines().enumerate() {
+        let bad = || format!("{}:{}: cannot read '{line}'", path.display(), n + 1);
         let mut it = line.split_whitespace();
         match it.next() {
-            Some("v") => v.push(Vec3::new(
-                it.next()?.parse().ok()?,
-                it.next()?.parse().ok()?,
-                it.next()?.parse().ok()?,
-            )),
+            Some("v") => {
+                let mut c = [0f32; 3];
+                for x in &mut c {
+                    *x = it
+                        .next()
+                        .and_then(|t| t.parse().ok())
+                        .unwrap_or_else(|| panic!("{}", bad()));
+                }
+                v.push(Vec3::from(c));
+            }
             Some("f") => {
-                let idx: Vec<usize> = it.map(|s| s.parse::<usize>().unwrap() - 1).collect();
+                let idx: Vec<usize> = it
+                    .map(|s| {
+                        s.parse::<usize>()
+                            .ok()
+                            .and_then(|i| i.checked_sub(1))
+                            .unwrap_or_else(|| panic!("{}", bad()))
+                    })
+                    .collect();
+                assert!(
+                    idx.len() == 3 && idx.iter().all(|&i| i < v.len()),
+                    "{}",
+                    bad()
+                );
                 tris.push([v[idx[0]], v[idx[1]], v[idx[2]]]);
             }
             _ => {}
         }
     }
-    Some(tris)
+    assert!(!tris.is_empty(), "{}: no triangles", path.display());
+    tris
 }
 
 #[test]
@@ -216,10 +232,7 @@ fn walls_and_light_are_the_reference_quads() {
         "greenwall",
         "light",
     ] {
-        let Some(reference) = obj_triangles(name) else {
-            eprintln!("reference {name}.obj not found; skipped");
-            continue;
-        };
+        let reference = obj_triangles(name);
         let ours = triangles(&s, name);
         assert_eq!(ours.len(), reference.len(), "{name}");
         for (t, r) in ours.iter().zip(&reference) {
@@ -240,10 +253,7 @@ fn blocks_match_the_reference_within_a_millimetre_or_so() {
             |(lo, hi), p| (lo.min(*p), hi.max(*p)),
         );
         assert!(lo.y.abs() < 1e-3 && (hi.y - height).abs() < 1e-3, "{name}");
-        let Some(reference) = obj_triangles(name) else {
-            eprintln!("reference {name}.obj not found; skipped");
-            continue;
-        };
+        let reference = obj_triangles(name);
         // Every reference vertex has one of ours within 1.5 mm, and back.
         let near = |p: &Vec3, set: &[Vec3]| {
             set.iter()
