@@ -112,6 +112,12 @@ fn triangle_map_at_known_points() {
         Vec2::new(0.5, 0.5),
         "far corner",
     );
+    // Rounding: at u = (1, 5.8e-8), b₁ = 2.9e-8 and b₀ = fl(1 − b₁) = 1, so
+    // b₀ + b₁ > 1 unless b₁ is clamped to 1 − b₀ = 0: the point must stay
+    // in the triangle (b₂ = 1 − b₀ − b₁ ≥ 0, as the tracer computes it).
+    let b = square_to_triangle([1.0, 5.8e-8]);
+    assert!(1.0 - b.x - b.y >= 0.0, "outside the triangle: {b}");
+    assert_eq!(b, Vec2::new(1.0, 0.0));
 }
 
 /// Veach's power heuristic (β = 2): w = a² / (a² + b²).
