@@ -6,7 +6,10 @@
 
 use glam::{Vec2, Vec3};
 use penumbra_shading::bsdf::optics::{critical_angle, refract_incident};
-use penumbra_shading::sampling::{power_heuristic, square_to_disk_concentric, square_to_triangle};
+use penumbra_shading::sampling::{
+    UNIFORM_SPHERE_PDF, cosine_hemisphere_pdf, power_heuristic, square_to_disk_concentric,
+    square_to_triangle,
+};
 use std::f32::consts::PI;
 
 fn near(a: Vec2, b: Vec2, what: &str) {
@@ -145,4 +148,14 @@ fn refraction_edge_cases() {
     assert_eq!(critical_angle(1.0, 1.5), None);
     let c = critical_angle(1.5, 1.0).unwrap();
     assert!((c - (1.0f32 / 1.5).asin()).abs() < 1e-7 && (c.to_degrees() - 41.81).abs() < 0.01);
+}
+
+/// The densities: uniform sphere 1/(4π) = 0.0795775 sr⁻¹; cosine
+/// hemisphere cos θ / π (0.5/π = 0.1591549 at 60°, 0 below the horizon).
+#[test]
+fn warp_densities() {
+    assert!((UNIFORM_SPHERE_PDF - 0.079_577_47).abs() < 1e-8);
+    assert!((cosine_hemisphere_pdf(0.5) - 0.159_154_94).abs() < 1e-8);
+    assert!((cosine_hemisphere_pdf(1.0) - 0.318_309_9).abs() < 1e-7);
+    assert_eq!(cosine_hemisphere_pdf(-0.3), 0.0);
 }
