@@ -16,7 +16,8 @@ fi
 # The study report test (crates/penumbra-study/tests/report_browser.rs) opens
 # index.html in headless Chromium; install it when apt is available. Without
 # it that test fails and says so (PENUMBRA_SKIP_BROWSER=1 skips it).
-if command -v apt-get >/dev/null 2>&1 && ! dpkg -s chromium >/dev/null 2>&1; then
+if command -v apt-get >/dev/null 2>&1 && ! command -v chromium >/dev/null 2>&1 \
+  && ! command -v chromium-browser >/dev/null 2>&1; then
   SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
   $SUDO apt-get update -qq || true
   $SUDO apt-get install -y -qq chromium >/dev/null || echo "warning: could not install chromium; the study report test will fail (set PENUMBRA_SKIP_BROWSER=1 to skip it)" >&2
