@@ -170,3 +170,21 @@ pub fn all_modules() -> Vec<(&'static str, String)> {
 pub fn with_library(entry_points: &str) -> String {
     format!("{}\n{entry_points}", library())
 }
+
+/// A compute pipeline of `entry` in the WGSL `source`, with the layout
+/// derived from the shader (`layout: None`): for passes and test kernels
+/// whose bind groups come from `get_bind_group_layout`.
+pub fn compute_pipeline(device: &wgpu::Device, source: &str, entry: &str) -> wgpu::ComputePipeline {
+    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some(entry),
+        source: wgpu::ShaderSource::Wgsl(source.into()),
+    });
+    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some(entry),
+        layout: None,
+        module: &module,
+        entry_point: Some(entry),
+        compilation_options: Default::default(),
+        cache: None,
+    })
+}

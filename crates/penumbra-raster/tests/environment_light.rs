@@ -18,7 +18,7 @@ mod common;
 use glam::{Mat4, Vec3};
 use penumbra_image::{Image, ToneMapping, hdr_flip, read_image, write_image};
 use penumbra_raster::material_tables::{KULLA_CONTY_BINDING, kulla_conty_table};
-use penumbra_raster::shaders::with_library;
+use penumbra_raster::shaders::{compute_pipeline, with_library};
 use penumbra_raster::{ForwardRenderer, GpuContext, RasterOptions, map_read};
 use penumbra_scene::camera::{Camera, Projection};
 use penumbra_scene::{IntegratorKind, Material, Scene, primitives};
@@ -67,18 +67,7 @@ fn eval_ggx_half(@builtin(global_invocation_id) id: vec3<u32>) {
 /// at binding 0 and the Kulla–Conty table at 8 where the entry uses them).
 fn dispatch(ctx: &GpuContext, entry: &str, sh: Option<&Sh9>, inputs: &[[f32; 4]]) -> Vec<[f32; 4]> {
     let device = &ctx.device;
-    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: Some("environment twins"),
-        source: wgpu::ShaderSource::Wgsl(with_library(KERNELS).into()),
-    });
-    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some(entry),
-        layout: None,
-        module: &module,
-        entry_point: Some(entry),
-        compilation_options: Default::default(),
-        cache: None,
-    });
+    let pipeline = compute_pipeline(device, &with_library(KERNELS), entry);
     let storage = |label, contents: &[u8]| {
         device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some(label),

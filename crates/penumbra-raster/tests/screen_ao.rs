@@ -12,7 +12,7 @@ use penumbra_raster::passes::ao::{
     AoMethod, AoQuality, AoSettings, AoTextures, ScreenSpaceAo, gtao_slice_visibility,
 };
 use penumbra_raster::readback::TextureReadback;
-use penumbra_raster::shaders::GTAO_SLICE_WGSL;
+use penumbra_raster::shaders::{GTAO_SLICE_WGSL, compute_pipeline};
 use penumbra_raster::{BakedMaps, ForwardRenderer, GpuContext, GpuTimer, RasterOptions, map_read};
 use penumbra_scene::camera::{Camera, Projection};
 use penumbra_scene::{IntegratorKind, Material, RenderSettings, Scene, builtin, primitives};
@@ -490,18 +490,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {{
     }}
 }}"
     );
-    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: None,
-        source: wgpu::ShaderSource::Wgsl(source.into()),
-    });
-    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: None,
-        layout: None,
-        module: &module,
-        entry_point: Some("main"),
-        compilation_options: Default::default(),
-        cache: None,
-    });
+    let pipeline = compute_pipeline(device, &source, "main");
     let input = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: None,
         contents: bytemuck::cast_slice(&cases),

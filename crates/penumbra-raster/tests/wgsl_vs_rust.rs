@@ -13,7 +13,7 @@ use common::{BrdfCase, LightCase, LightIncidence, close};
 use glam::Vec3;
 use penumbra_raster::gpu::{GpuLight, GpuMaterial, MODEL_DELTA, MODEL_LAMBERT};
 use penumbra_raster::material_tables::{KULLA_CONTY_BINDING, kulla_conty_table};
-use penumbra_raster::shaders::with_library;
+use penumbra_raster::shaders::{compute_pipeline, with_library};
 use penumbra_raster::{GpuContext, map_read};
 use penumbra_shading::bsdf::{
     Bsdf, CONDUCTOR_PRESETS, Conductor, DELTA_ALPHA, Dielectric, FresnelModel, Lambert, MIN_ALPHA,
@@ -58,19 +58,7 @@ fn dispatch<T: bytemuck::Pod>(
     input_binding: u32,
 ) -> Vec<T> {
     let device = &ctx.device;
-    let source = with_library(common::KERNELS_WGSL);
-    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: Some("twins"),
-        source: wgpu::ShaderSource::Wgsl(source.into()),
-    });
-    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some(entry),
-        layout: None,
-        module: &module,
-        entry_point: Some(entry),
-        compilation_options: Default::default(),
-        cache: None,
-    });
+    let pipeline = compute_pipeline(device, &with_library(common::KERNELS_WGSL), entry);
     let out_size = (count * size_of::<T>()) as u64;
     let input_buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some("input"),

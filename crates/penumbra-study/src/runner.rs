@@ -2,10 +2,12 @@
 //! line (`render`, `render --engine raster`, `bake`), and says why where a
 //! technique cannot run on this scene or machine.
 
+use crate::measure::errors;
+use crate::row::EqualTime;
 use crate::study::StudyOptions;
 use crate::technique::{RasterShadows, Technique};
 use penumbra_bake::{AtlasSettings, LoadedBake};
-use penumbra_image::Image;
+use penumbra_image::{Image, ImageError};
 use penumbra_raster::passes::ao::{AoMethod, AoQuality, AoSettings, default_radius};
 use penumbra_raster::receivers::planar_receivers;
 use penumbra_raster::{BakedMaps, ForwardRenderer, GpuContext, RasterOptions, ShadowMode};
@@ -25,6 +27,9 @@ pub const AO_BAKE_SAMPLES: u32 = 256;
 pub const LIGHTMAP_SAMPLES: u32 = 64;
 /// Radiosity patches.
 pub const RADIOSITY_PATCHES: u32 = 10_000;
+/// Why the environment rows skip a scene without ambient light.
+const BLACK_ENVIRONMENT: &str =
+    "the scene's environment is black: there is no ambient light to approximate";
 /// Frames a raster row renders; the last one is timed (the first pays
 /// for pipeline and upload warm-up).
 const RASTER_FRAMES: usize = 2;
@@ -54,7 +59,7 @@ pub struct Runner<'a> {
     pub ao_radius: f32,
     /// Render time of one sample per pixel of `path` [s].
     pub path_seconds_per_spp: Option<f64>,
-    equal_time: HashMap<u32, (f64, Image)>,
+    equal_time: HashMap<u32, EqualTime>,
 }
 
 impl std::fmt::Debug for Runner<'_> {
@@ -113,13 +118,14 @@ impl<'a> Runner<'a> {
             }
             Technique::Environment => {
                 if self.scene.environment().is_black() {
-                    return Err("the scene's environment is black: there is no ambient light to approximate".into());
+                    return Err(BLACK_ENVIRONMENT.into());
                 }
                 self.raster(self.scene, REALTIME_SHADOWS, AoMethod::None, &[], "")
             }
             Technique::Ssao(m) => self.raster(self.scene, REALTIME_SHADOWS, m, &[], ""),
-            Technique::BakedAo => self.baked(technique),
-            Technique::Lightmap { .. } | Technique::Radiosity => self.baked(technique),
+            Technique::BakedAo | Technique::Lightmap { .. } | Technique::Radiosity => {
+                self.baked(technique)
+            }
         }
     }
 
@@ -174,17 +180,17 @@ impl<'a> Runner<'a> {
     /// The scene with its environment map replaced by the map's mean
     /// radiance.
     fn ambient_scene(&self) -> Result<Scene, String> {
-        match self.scene.environment() {
+        let environment = self.scene.environment();
+        if environment.is_black() {
+            return Err(BLACK_ENVIRONMENT.into());
+        }
+        match environment {
             Environment::Map(m) => {
                 let mut scene = self.scene.clone();
                 scene.environment_map = None;
                 scene.background = m.mean_radiance();
                 Ok(scene)
             }
-            Environment::Constant(l) if l == glam::Vec3::ZERO => Err(
-                "the scene's environment is black: there is no ambient light to approximate"
-                    .into(),
-            ),
             Environment::Constant(_) => Err(
                 "the scene's environment is already a constant: the constant ambient is E_env itself (see raster-environment)"
                     .into(),
@@ -240,14 +246,11 @@ impl<'a> Runner<'a> {
             );
         }
         let out = last.ok_or("no frame")?;
-        let quantity = wants_ao
-            .then(|| {
-                out.aovs
-                    .iter()
-                    .find(|(n, _)| n == "ao")
-                    .map(|(_, i)| i.clone())
-            })
-            .flatten();
+        let quantity = out
+            .aovs
+            .into_iter()
+            .find(|(n, _)| wants_ao && n == "ao")
+            .map(|(_, i)| i);
         let mut command = format!(
             "{} --engine raster --msaa {}",
             self.common_flags(),
@@ -390,8 +393,14 @@ impl<'a> Runner<'a> {
     }
 
     /// `path` with as many samples per pixel as fit in `seconds` (at least
-    /// one), from the speed of the `path` truth: (spp, render time, image).
-    pub fn path_at_equal_time(&mut self, seconds: f64) -> Option<(u32, f64, Image)> {
+    /// one), from the speed of the `path` truth, and its errors against
+    /// `full`; measured once per sample count (rows of similar cost share
+    /// it).
+    pub fn path_at_equal_time(
+        &mut self,
+        seconds: f64,
+        full: &Image,
+    ) -> Result<Option<EqualTime>, ImageError> {
         let per_spp = match self.path_seconds_per_spp {
             Some(t) => t,
             None => {
@@ -407,18 +416,23 @@ impl<'a> Runner<'a> {
             }
         };
         if !(per_spp > 0.0 && seconds.is_finite()) {
-            return None;
+            return Ok(None);
         }
         let spp = ((seconds / per_spp).round() as u32).max(1);
-        if !self.equal_time.contains_key(&spp) {
-            let out = render(
-                self.scene,
-                &self.settings(IntegratorKind::Path, spp),
-                &RenderOptions::default(),
-            );
-            self.equal_time.insert(spp, (out.render_seconds, out.image));
+        if let Some(e) = self.equal_time.get(&spp) {
+            return Ok(Some(*e));
         }
-        let (t, img) = &self.equal_time[&spp];
-        Some((spp, *t, img.clone()))
+        let out = render(
+            self.scene,
+            &self.settings(IntegratorKind::Path, spp),
+            &RenderOptions::default(),
+        );
+        let e = EqualTime {
+            spp,
+            seconds: out.render_seconds,
+            full: errors(full, &out.image)?.0,
+        };
+        self.equal_time.insert(spp, e);
+        Ok(Some(e))
     }
 }

@@ -6,7 +6,7 @@
 use crate::error::StudyError;
 use crate::measure::errors;
 use crate::output_dir::{self, Staging};
-use crate::row::{Cost, EqualTime, Errors, Row, Skipped, Study, Truth};
+use crate::row::{Cost, Errors, Row, Skipped, Study, Truth};
 use crate::runner::{Produced, Runner};
 use crate::technique::{Technique, TruthKind};
 use crate::truth::{Converged, Target, converge};
@@ -279,16 +279,7 @@ fn finish_row(
     let equal_time_path = if *technique == Technique::Trace(IntegratorKind::Path) {
         None
     } else {
-        runner
-            .path_at_equal_time(produced.seconds)
-            .map(|(spp, seconds, image)| -> Result<EqualTime, StudyError> {
-                Ok(EqualTime {
-                    spp,
-                    seconds,
-                    full: errors(full, &image)?.0,
-                })
-            })
-            .transpose()?
+        runner.path_at_equal_time(produced.seconds, full)?
     };
     Ok(Row {
         id,

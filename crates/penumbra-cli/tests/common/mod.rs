@@ -26,3 +26,19 @@ pub fn files_in(dir: &Path) -> Vec<String> {
     v.sort();
     v
 }
+
+/// Each (arguments, expected text) case fails, names the problem, does not
+/// panic and leaves `dir` holding exactly `left` (sorted names).
+pub fn expect_failures(cases: &[(&[&str], &str)], dir: &Path, left: &[&str]) {
+    for (args, expected) in cases {
+        let o = penumbra(args, dir);
+        assert!(!o.status.success(), "{args:?} should fail");
+        assert!(
+            stderr(&o).contains(expected),
+            "{args:?}: stderr does not mention '{expected}':\n{}",
+            stderr(&o)
+        );
+        assert!(!stderr(&o).contains("panicked"), "{args:?} panicked");
+        assert_eq!(files_in(dir), left, "{args:?} left files");
+    }
+}

@@ -20,8 +20,8 @@ fn ao_denoise(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let px = vec2<i32>(id.xy);
-    let here = ao_surface_at(px);
-    if !here.valid || all(here.n == vec3<f32>(0.0)) {
+    let here = ao_target_at(px);
+    if !here.valid {
         textureStore(ao_out, id.xy, vec4<f32>(0.0));
         return;
     }

@@ -68,7 +68,7 @@ fn gtao(@builtin(global_invocation_id) id: vec3<u32>) {
     if any(id.xy >= vec2<u32>(ao.size)) {
         return;
     }
-    let here = ao_surface_at(vec2<i32>(id.xy));
+    let here = ao_target_at(vec2<i32>(id.xy));
     if !here.valid {
         textureStore(raw_ao, id.xy, vec4<f32>(1.0));
         return;

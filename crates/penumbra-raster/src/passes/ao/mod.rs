@@ -25,7 +25,9 @@ pub use settings::{
 use crate::gpu::GpuAoParams;
 use crate::readback::TextureReadback;
 use crate::scene_gpu::{buffer_init, whole};
-use crate::shaders::{ao_denoise_source, ao_inputs_source, gtao_source, hemisphere_source};
+use crate::shaders::{
+    ao_denoise_source, ao_inputs_source, compute_pipeline, gtao_source, hemisphere_source,
+};
 use crate::timing::GpuTimer;
 use glam::Mat4;
 
@@ -119,21 +121,6 @@ pub struct ScreenSpaceAo {
     kernel: wgpu::Buffer,
 }
 
-fn compute_pipeline(device: &wgpu::Device, source: String, entry: &str) -> wgpu::ComputePipeline {
-    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: Some(entry),
-        source: wgpu::ShaderSource::Wgsl(source.into()),
-    });
-    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some(entry),
-        layout: None,
-        module: &module,
-        entry_point: Some(entry),
-        compilation_options: Default::default(),
-        cache: None,
-    })
-}
-
 fn texture_entry(binding: u32, view: &wgpu::TextureView) -> wgpu::BindGroupEntry<'_> {
     wgpu::BindGroupEntry {
         binding,
@@ -147,21 +134,21 @@ impl ScreenSpaceAo {
     pub fn new(device: &wgpu::Device, settings: AoSettings, prepass_samples: u32) -> Self {
         let (main, kernel) = match settings.method {
             AoMethod::Gtao | AoMethod::None => (
-                compute_pipeline(device, gtao_source(), "gtao"),
+                compute_pipeline(device, &gtao_source(), "gtao"),
                 vec![[0.0; 4]],
             ),
             AoMethod::Hemisphere => (
-                compute_pipeline(device, hemisphere_source(), "ssao_hemisphere"),
+                compute_pipeline(device, &hemisphere_source(), "ssao_hemisphere"),
                 hemisphere_kernel(settings.quality.hemisphere_samples()),
             ),
         };
         let inputs_source = ao_inputs_source(prepass_samples > 1);
         Self {
             settings,
-            inputs: compute_pipeline(device, inputs_source.clone(), "ao_inputs"),
-            depth_mip: compute_pipeline(device, inputs_source, "ao_depth_mip"),
+            inputs: compute_pipeline(device, &inputs_source, "ao_inputs"),
+            depth_mip: compute_pipeline(device, &inputs_source, "ao_depth_mip"),
             main,
-            denoise: compute_pipeline(device, ao_denoise_source(), "ao_denoise"),
+            denoise: compute_pipeline(device, &ao_denoise_source(), "ao_denoise"),
             kernel: buffer_init(
                 device,
                 "ao kernel",

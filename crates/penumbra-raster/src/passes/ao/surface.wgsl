@@ -25,3 +25,13 @@ fn ao_surface_at(px: vec2<i32>) -> AoSurface {
     }
     return s;
 }
+
+// The surface whose kA a pass estimates at pixel `px`: valid = false for
+// the background and for analytic area lights (a zero normal), which are
+// not surfaces (the `ao` integrator gives them kA = 0); the raw passes
+// skip them and the denoise writes 0.
+fn ao_target_at(px: vec2<i32>) -> AoSurface {
+    var s = ao_surface_at(px);
+    s.valid = s.valid && any(s.n != vec3<f32>(0.0));
+    return s;
+}
