@@ -23,6 +23,8 @@ enum Command {
     Render(commands::render::RenderArgs),
     /// Print what a scene file contains: counts, bounds, lights and their power, warnings.
     Info(commands::info::InfoArgs),
+    /// Add the partial films of a split render (`render --samples/--crop`) into its image, checking that they fit together.
+    Merge(commands::merge::MergeArgs),
     /// Compare a test image with a reference: RMSE, relMSE, PSNR and HDR-FLIP.
     Compare(commands::compare::CompareArgs),
     /// Precompute ambient occlusion, irradiance light maps or radiosity into a light-map atlas.
@@ -39,6 +41,7 @@ fn main() -> ExitCode {
         Command::Render(a) => commands::render::run(a),
         Command::Info(a) => commands::info::run(a),
         Command::Compare(a) => commands::compare::run(a),
+        Command::Merge(a) => commands::merge::run(a),
         Command::Bench(a) => commands::bench::run(a),
         Command::Bake(a) => commands::bake::run(a),
         Command::Study(a) => commands::study::run(a),

@@ -78,6 +78,13 @@ pub enum ImageError {
         /// What is wrong with it.
         message: String,
     },
+    /// Partial films that cannot be merged (another render's part, an
+    /// overlap, missing samples); the message names the parts.
+    #[error("cannot merge: {message}")]
+    Merge {
+        /// What is wrong, naming the parts.
+        message: String,
+    },
     /// Two images that must have the same size do not.
     #[error(
         "image sizes differ: reference is {}x{}, test is {}x{}",

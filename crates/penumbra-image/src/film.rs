@@ -1,14 +1,27 @@
-//! [`Film`] and [`FilmTile`]: per-pixel running mean and variance of radiance samples.
+//! [`Film`] and [`FilmTile`]: per-pixel sums of radiance samples, from which
+//! the mean and the variance of the mean follow.
 //!
-//! Each pixel keeps Welford's running statistics (Welford 1962):
-//! for the n-th sample `v`, `δ = v − μ`, `μ += δ / n`, `M₂ += δ · (v − μ)`.
-//! The sample variance is `s² = M₂ / (n − 1)` and the variance of the pixel
+//! Each pixel keeps its sample count `n`, the sum `Σv` and the sum of
+//! squares `Σv²` per channel. The mean is `μ = Σv / n`; the unbiased sample
+//! variance is `s² = (Σv² − n μ²) / (n − 1)`, and the variance of the pixel
 //! estimate (the mean of n samples) is `s² / n`.
 //!
-//! The pixel filter is a 1-pixel box: a sample only counts for the pixel it was
-//! taken in. Threads accumulate into disjoint [`FilmTile`]s that are combined
-//! with Chan et al.'s (1979) pairwise update (see [`Film::merge_tile`]).
-//! Statistics are kept in f64.
+//! **Exact sums.** `Σv` is kept in fixed point: each sample is rounded once
+//! to a multiple of 2⁻⁴⁸ ([`FIXED_POINT_BITS`]) and the multiples are added
+//! as 128-bit integers, which is exact, so the sum does not depend on the
+//! order in which samples or films are added. A render split by sample range
+//! or by image window and merged gives the same bits as a render in one
+//! piece, whatever the thread count or the merge order. Samples of magnitude
+//! 2⁴⁶ (≈ 7·10¹³) or more are rejected like non-finite ones, so 2³² samples
+//! can never overflow the sum. `Σv²` is kept in f64 (the square of an f32 is
+//! exact in f64; the additions round), so the variance estimate may differ
+//! in its last bits with the order of merges; the mean never does.
+//!
+//! The pixel filter is a 1-pixel box: a sample only counts for the pixel it
+//! was taken in. A film covers a window `x0..x0+width` × `y0..y0+height` of
+//! an image ([`Film::new`] starts at the origin); threads accumulate into
+//! disjoint [`FilmTile`]s that are added with [`Film::merge_tile`], and whole
+//! films add with [`Film::merge`]. Coordinates are always absolute pixels.
 
 use std::fmt;
 
@@ -17,80 +30,99 @@ use glam::DVec3;
 use crate::buffer::pixel_count;
 use crate::{Image, Rgb};
 
-/// Welford statistics of one pixel.
+/// Fractional bits of the fixed-point sums: samples are rounded to
+/// multiples of 2⁻⁴⁸ ≈ 3.6·10⁻¹⁵.
+pub const FIXED_POINT_BITS: i32 = 48;
+
+/// Samples with `|v| ≥ 2⁴⁶` in any channel are rejected, so that 2³²
+/// samples (the largest count) cannot overflow a 128-bit sum.
+pub const MAX_SAMPLE_MAGNITUDE: f64 = (1u64 << 46) as f64;
+
+/// Sums of one pixel's samples.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-struct PixelStats {
-    n: u32,
-    mean: DVec3,
-    m2: DVec3,
+pub(crate) struct PixelStats {
+    pub(crate) n: u32,
+    /// `Σv` per channel, in units of 2⁻⁴⁸.
+    pub(crate) sum: [i128; 3],
+    /// `Σv²` per channel.
+    pub(crate) sum_sq: DVec3,
+}
+
+/// `v` in units of 2⁻⁴⁸, rounded to the nearest integer (the one rounding
+/// of a sample; f32 values of magnitude 2⁻²⁴ or more are exact).
+fn to_fixed(v: f32) -> i128 {
+    (f64::from(v) * f64::powi(2.0, FIXED_POINT_BITS)).round() as i128
+}
+
+fn from_fixed(v: i128) -> f64 {
+    v as f64 * f64::powi(2.0, -FIXED_POINT_BITS)
+}
+
+/// Whether a sample can be accumulated: finite and below [`MAX_SAMPLE_MAGNITUDE`].
+fn accepted(value: Rgb) -> bool {
+    value.is_finite() && (value.abs().max_element() as f64) < MAX_SAMPLE_MAGNITUDE
 }
 
 impl PixelStats {
-    /// Welford update: `δ = v − μ`, `μ += δ/n`, `M₂ += δ·(v − μ)`.
-    fn push(&mut self, v: DVec3) {
+    fn push(&mut self, v: Rgb) {
         self.n += 1;
-        let delta = v - self.mean;
-        self.mean += delta / f64::from(self.n);
-        self.m2 += delta * (v - self.mean);
+        for c in 0..3 {
+            self.sum[c] += to_fixed(v[c]);
+        }
+        let d = v.as_dvec3();
+        self.sum_sq += d * d;
     }
 
-    /// Chan et al. merge: `n = nₐ + n_b`, `δ = μ_b − μₐ`, `μ = μₐ + δ·n_b/n`,
-    /// `M₂ = M₂ₐ + M₂_b + δ²·nₐ·n_b/n`.
+    /// Adds another pixel's sums (exact for `n` and `Σv`).
     fn merge(&mut self, other: &PixelStats) {
-        if other.n == 0 {
-            return;
-        }
-        if self.n == 0 {
-            *self = *other;
-            return;
-        }
-        let na = f64::from(self.n);
-        let nb = f64::from(other.n);
-        let n = na + nb;
-        let delta = other.mean - self.mean;
-        self.mean += delta * (nb / n);
-        self.m2 += other.m2 + delta * delta * (na * nb / n);
         self.n = self.n.saturating_add(other.n);
+        for c in 0..3 {
+            self.sum[c] += other.sum[c];
+        }
+        self.sum_sq += other.sum_sq;
     }
 
-    /// Variance of the mean estimator, `s²/n = M₂ / ((n − 1) n)`; zero for n < 2.
+    /// `μ = Σv / n`; zero for n = 0.
+    fn mean(&self) -> DVec3 {
+        if self.n == 0 {
+            return DVec3::ZERO;
+        }
+        let n = f64::from(self.n);
+        DVec3::new(
+            from_fixed(self.sum[0]),
+            from_fixed(self.sum[1]),
+            from_fixed(self.sum[2]),
+        ) / n
+    }
+
+    /// Variance of the mean estimator, `s²/n = (Σv² − n μ²) / ((n − 1) n)`,
+    /// clamped at zero against rounding; zero for n < 2.
     fn variance_of_mean(&self) -> DVec3 {
         if self.n < 2 {
             return DVec3::ZERO;
         }
         let n = f64::from(self.n);
-        self.m2 / ((n - 1.0) * n)
+        let mean = self.mean();
+        ((self.sum_sq - n * mean * mean) / ((n - 1.0) * n)).max(DVec3::ZERO)
     }
 }
 
-/// Per-pixel running mean and variance (Welford), for the final image and for variance estimates.
-///
-/// Non-finite samples (NaN or ±∞) are not accumulated; they are counted in
-/// [`Film::rejected_samples`] so a caller can report them. Samples outside the
-/// film are ignored.
-#[derive(Clone)]
-pub struct Film {
+/// A rectangle of absolute pixels and the statistics of each, row-major.
+#[derive(Clone, PartialEq)]
+struct Window {
+    x0: u32,
+    y0: u32,
     width: u32,
     height: u32,
     stats: Vec<PixelStats>,
     rejected: u64,
 }
 
-impl fmt::Debug for Film {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.debug_struct("Film")
-            .field("width", &self.width)
-            .field("height", &self.height)
-            .field("total_samples", &self.total_samples())
-            .field("rejected_samples", &self.rejected)
-            .finish()
-    }
-}
-
-impl Film {
-    /// An empty film (no samples in any pixel).
-    pub fn new(width: u32, height: u32) -> Self {
+impl Window {
+    fn new(x0: u32, y0: u32, width: u32, height: u32) -> Self {
         Self {
+            x0,
+            y0,
             width,
             height,
             stats: vec![PixelStats::default(); pixel_count(width, height)],
@@ -98,107 +130,202 @@ impl Film {
         }
     }
 
+    /// Index of absolute pixel (x, y), if it lies inside.
+    fn index(&self, x: u32, y: u32) -> Option<usize> {
+        let (tx, ty) = (x.checked_sub(self.x0)?, y.checked_sub(self.y0)?);
+        (tx < self.width && ty < self.height)
+            .then(|| ty as usize * self.width as usize + tx as usize)
+    }
+
+    fn add_sample(&mut self, x: u32, y: u32, value: Rgb) {
+        let Some(i) = self.index(x, y) else {
+            return;
+        };
+        if !accepted(value) {
+            self.rejected += 1;
+            return;
+        }
+        self.stats[i].push(value);
+    }
+
+    fn sample_count(&self, x: u32, y: u32) -> u32 {
+        self.index(x, y).map_or(0, |i| self.stats[i].n)
+    }
+
+    /// Adds the statistics of `other` where the two windows overlap.
+    fn merge(&mut self, other: &Window) {
+        self.rejected += other.rejected;
+        for oy in 0..other.height {
+            let y = other.y0 + oy;
+            for ox in 0..other.width {
+                if let Some(i) = self.index(other.x0 + ox, y) {
+                    let j = oy as usize * other.width as usize + ox as usize;
+                    self.stats[i].merge(&other.stats[j]);
+                }
+            }
+        }
+    }
+}
+
+/// Per-pixel sample sums over a window of an image: the mean image and the
+/// variance of each pixel's mean (see the module docs).
+///
+/// Non-finite samples (NaN or ±∞) and samples of magnitude ≥ 2⁴⁶ are not
+/// accumulated; they are counted in [`Film::rejected_samples`] so a caller
+/// can report them. Samples outside the film are ignored.
+#[derive(Clone, PartialEq)]
+pub struct Film {
+    w: Window,
+}
+
+impl fmt::Debug for Film {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Film")
+            .field("x0", &self.w.x0)
+            .field("y0", &self.w.y0)
+            .field("width", &self.w.width)
+            .field("height", &self.w.height)
+            .field("total_samples", &self.total_samples())
+            .field("rejected_samples", &self.w.rejected)
+            .finish()
+    }
+}
+
+impl Film {
+    /// An empty film of `width` × `height` pixels at the image's origin.
+    pub fn new(width: u32, height: u32) -> Self {
+        Self::window(0, 0, width, height)
+    }
+
+    /// An empty film covering pixels `x0..x0+width` × `y0..y0+height` of an image.
+    pub fn window(x0: u32, y0: u32, width: u32, height: u32) -> Self {
+        Self {
+            w: Window::new(x0, y0, width, height),
+        }
+    }
+
+    /// Left column of the window.
+    pub fn x0(&self) -> u32 {
+        self.w.x0
+    }
+
+    /// Top row of the window.
+    pub fn y0(&self) -> u32 {
+        self.w.y0
+    }
+
     /// Width in pixels.
     pub fn width(&self) -> u32 {
-        self.width
+        self.w.width
     }
 
     /// Height in pixels.
     pub fn height(&self) -> u32 {
-        self.height
+        self.w.height
     }
 
-    /// Adds one radiance sample taken inside pixel (x, y) (1-pixel box filter).
-    /// Out-of-range pixels are ignored; non-finite values are rejected and counted.
+    /// Adds one radiance sample taken inside absolute pixel (x, y) (1-pixel
+    /// box filter). Pixels outside the window are ignored; rejected values
+    /// are counted.
     pub fn add_sample(&mut self, x: u32, y: u32, value: Rgb) {
-        if x >= self.width || y >= self.height {
-            return;
-        }
-        if !value.is_finite() {
-            self.rejected += 1;
-            return;
-        }
-        let i = y as usize * self.width as usize + x as usize;
-        self.stats[i].push(value.as_dvec3());
+        self.w.add_sample(x, y, value);
     }
 
-    /// The per-pixel sample mean `μ` (black where a pixel has no samples).
+    /// The per-pixel sample mean `μ` over the window (black where a pixel
+    /// has no samples).
     pub fn mean(&self) -> Image {
-        self.to_image(|s| s.mean)
+        self.to_image(PixelStats::mean)
     }
 
-    /// The variance of each pixel's mean estimator, `s²/n` with `s² = M₂/(n−1)`
-    /// the unbiased sample variance (zero where a pixel has fewer than 2 samples).
+    /// The variance of each pixel's mean estimator, `s²/n` (zero where a
+    /// pixel has fewer than 2 samples).
     pub fn variance(&self) -> Image {
         self.to_image(PixelStats::variance_of_mean)
     }
 
-    /// Number of accepted samples in pixel (x, y); 0 outside the film.
+    /// Number of accepted samples in absolute pixel (x, y); 0 outside the film.
     pub fn sample_count(&self, x: u32, y: u32) -> u32 {
-        if x >= self.width || y >= self.height {
-            return 0;
-        }
-        self.stats[y as usize * self.width as usize + x as usize].n
+        self.w.sample_count(x, y)
     }
 
     /// Total number of accepted samples over all pixels.
     pub fn total_samples(&self) -> u64 {
-        self.stats.iter().map(|s| u64::from(s.n)).sum()
+        self.w.stats.iter().map(|s| u64::from(s.n)).sum()
     }
 
-    /// Number of non-finite samples that were rejected (including those of merged tiles).
+    /// Number of samples that were rejected (including those of merged tiles
+    /// and films).
     pub fn rejected_samples(&self) -> u64 {
-        self.rejected
+        self.w.rejected
     }
 
     /// Splits the film into empty tiles of at most `tile_size`² pixels, row-major,
     /// covering every pixel exactly once (`tile_size` 0 is treated as 1).
     pub fn tiles(&self, tile_size: u32) -> Vec<FilmTile> {
         let size = tile_size.max(1);
+        let (x0, y0, w, h) = (self.w.x0, self.w.y0, self.w.width, self.w.height);
         let mut tiles = Vec::new();
-        for y0 in (0..self.height).step_by(size as usize) {
-            for x0 in (0..self.width).step_by(size as usize) {
-                let w = size.min(self.width - x0);
-                let h = size.min(self.height - y0);
-                tiles.push(FilmTile::new(x0, y0, w, h));
+        for ty in (0..h).step_by(size as usize) {
+            for tx in (0..w).step_by(size as usize) {
+                tiles.push(FilmTile::new(
+                    x0 + tx,
+                    y0 + ty,
+                    size.min(w - tx),
+                    size.min(h - ty),
+                ));
             }
         }
         tiles
     }
 
-    /// Merges the statistics of a tile into the film (Chan et al. pairwise
-    /// update per pixel), so adding samples to tiles and merging them gives
-    /// the same result as adding them directly, up to rounding. Parts of the
-    /// tile outside the film are ignored.
+    /// Adds the statistics of a tile to the film. Sums add exactly, so the
+    /// result does not depend on how samples were split into tiles or on the
+    /// merge order. Parts of the tile outside the film are ignored.
     pub fn merge_tile(&mut self, tile: &FilmTile) {
-        self.rejected += tile.rejected;
-        for ty in 0..tile.height {
-            let Some(y) = tile.y0.checked_add(ty).filter(|&y| y < self.height) else {
-                break;
-            };
-            for tx in 0..tile.width {
-                let Some(x) = tile.x0.checked_add(tx).filter(|&x| x < self.width) else {
-                    break;
-                };
-                let ti = ty as usize * tile.width as usize + tx as usize;
-                if let Some(s) = tile.stats.get(ti) {
-                    self.stats[y as usize * self.width as usize + x as usize].merge(s);
-                }
-            }
-        }
+        self.w.merge(&tile.w);
+    }
+
+    /// Adds the statistics of another film where the windows overlap (exact
+    /// and order-independent, as [`Film::merge_tile`]).
+    pub fn merge(&mut self, other: &Film) {
+        self.w.merge(&other.w);
+    }
+
+    /// The statistics of every pixel, row-major over the window.
+    pub(crate) fn stats(&self) -> &[PixelStats] {
+        &self.w.stats
+    }
+
+    /// A film from its window and statistics (`stats.len()` must be
+    /// `width × height`).
+    pub(crate) fn from_stats(
+        (x0, y0, width, height): (u32, u32, u32, u32),
+        stats: Vec<PixelStats>,
+        rejected: u64,
+    ) -> Option<Self> {
+        (stats.len() == pixel_count(width, height)).then_some(Self {
+            w: Window {
+                x0,
+                y0,
+                width,
+                height,
+                stats,
+                rejected,
+            },
+        })
     }
 
     fn to_image(&self, f: impl Fn(&PixelStats) -> DVec3) -> Image {
         Image {
-            width: self.width,
-            height: self.height,
-            pixels: self.stats.iter().map(|s| f(s).as_vec3()).collect(),
+            width: self.w.width,
+            height: self.w.height,
+            pixels: self.w.stats.iter().map(|s| f(s).as_vec3()).collect(),
         }
     }
 }
 
 /// A rectangle of film statistics that one thread can fill independently;
-/// combine it into the [`Film`] with [`Film::merge_tile`].
+/// add it to the [`Film`] with [`Film::merge_tile`].
 ///
 /// Coordinates are absolute film pixels: the tile covers
 /// `x0..x0+width` × `y0..y0+height`.
@@ -212,8 +339,7 @@ pub struct FilmTile {
     pub width: u32,
     /// Height in pixels.
     pub height: u32,
-    stats: Vec<PixelStats>,
-    rejected: u64,
+    w: Window,
 }
 
 impl fmt::Debug for FilmTile {
@@ -223,7 +349,7 @@ impl fmt::Debug for FilmTile {
             .field("y0", &self.y0)
             .field("width", &self.width)
             .field("height", &self.height)
-            .field("rejected_samples", &self.rejected)
+            .field("rejected_samples", &self.w.rejected)
             .finish()
     }
 }
@@ -236,49 +362,26 @@ impl FilmTile {
             y0,
             width,
             height,
-            stats: vec![PixelStats::default(); pixel_count(width, height)],
-            rejected: 0,
+            w: Window::new(x0, y0, width, height),
         }
     }
 
     /// Adds a sample for absolute pixel (x, y). Pixels outside the tile are
-    /// ignored; non-finite values are rejected and counted.
+    /// ignored; rejected values are counted.
     pub fn add_sample(&mut self, x: u32, y: u32, value: Rgb) {
-        let (Some(tx), Some(ty)) = (x.checked_sub(self.x0), y.checked_sub(self.y0)) else {
-            return;
-        };
-        if tx >= self.width || ty >= self.height {
-            return;
-        }
-        if !value.is_finite() {
-            self.rejected += 1;
-            return;
-        }
-        let i = ty as usize * self.width as usize + tx as usize;
-        if let Some(s) = self.stats.get_mut(i) {
-            s.push(value.as_dvec3());
-        }
+        self.w.add_sample(x, y, value);
     }
 
     /// Number of accepted samples in absolute pixel (x, y); 0 outside the tile.
     pub fn sample_count(&self, x: u32, y: u32) -> u32 {
-        let (Some(tx), Some(ty)) = (x.checked_sub(self.x0), y.checked_sub(self.y0)) else {
-            return 0;
-        };
-        if tx >= self.width || ty >= self.height {
-            return 0;
-        }
-        self.stats
-            .get(ty as usize * self.width as usize + tx as usize)
-            .map_or(0, |s| s.n)
+        self.w.sample_count(x, y)
     }
 
     /// `true` when `(x, y)` (absolute) lies inside the tile.
     pub fn contains(&self, x: u32, y: u32) -> bool {
-        x >= self.x0 && y >= self.y0 && (x - self.x0) < self.width && (y - self.y0) < self.height
+        self.w.index(x, y).is_some()
     }
 }
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -400,5 +503,103 @@ mod tests {
         film.merge_tile(&tile);
         assert_eq!(film.mean().get(2, 2), Rgb::splat(2.0));
         assert_eq!(film.total_samples(), 1);
+    }
+
+    #[test]
+    fn split_and_merged_in_any_order_gives_the_same_bits() {
+        // Values spanning 12 decades, so f64 or Welford accumulation would
+        // depend on the order of the additions.
+        let v = sequence(3 * 4 * 40);
+        let sample = |i: usize, k: usize| {
+            let c = &v[3 * (i * 40 + k)..3 * (i * 40 + k) + 3];
+            Rgb::new(c[0] * 1e6, c[1] * 1e-6, c[2] - 5.0)
+        };
+        let mut whole = Film::new(2, 2);
+        for k in 0..40 {
+            for i in 0..4 {
+                whole.add_sample(i as u32 % 2, i as u32 / 2, sample(i, k));
+            }
+        }
+        // Four sample ranges, each a film, merged in reverse order; and two
+        // windows of one range.
+        let ranges = [0..7, 7..19, 19..20, 20..40];
+        let parts: Vec<Film> = ranges
+            .iter()
+            .map(|r| {
+                let mut f = Film::new(2, 2);
+                for k in r.clone() {
+                    for i in 0..4 {
+                        f.add_sample(i as u32 % 2, i as u32 / 2, sample(i, k));
+                    }
+                }
+                f
+            })
+            .collect();
+        let mut merged = Film::new(2, 2);
+        for p in parts.iter().rev() {
+            merged.merge(p);
+        }
+        assert_eq!(merged.mean(), whole.mean());
+        assert_eq!(merged.total_samples(), whole.total_samples());
+        for (a, b) in merged
+            .variance()
+            .pixels
+            .iter()
+            .zip(&whole.variance().pixels)
+        {
+            assert!((*a - *b).abs().max_element() <= 1e-9 * b.abs().max_element());
+        }
+        let mut left = Film::window(0, 0, 1, 2);
+        let mut right = Film::window(1, 0, 1, 2);
+        for k in 0..40 {
+            for i in 0..4 {
+                let (x, y) = (i as u32 % 2, i as u32 / 2);
+                left.add_sample(x, y, sample(i, k));
+                right.add_sample(x, y, sample(i, k));
+            }
+        }
+        assert_eq!(left.total_samples() + right.total_samples(), 160);
+        let mut windows = Film::new(2, 2);
+        windows.merge(&right);
+        windows.merge(&left);
+        assert_eq!(windows.mean(), whole.mean());
+    }
+
+    #[test]
+    fn fixed_point_sum_is_within_one_rounding_per_sample() {
+        // 1000 samples of 0.1 + 1e-9: the mean is exact to f32 precision.
+        let mut film = Film::new(1, 1);
+        let v = 0.1f32 + 1e-9;
+        for _ in 0..1000 {
+            film.add_sample(0, 0, Rgb::new(v, 1e-12, 3e9));
+        }
+        let m = film.mean().get(0, 0);
+        assert_eq!(m.x, v);
+        assert!((m.y / 1e-12 - 1.0).abs() < 1e-2, "{}", m.y);
+        assert_eq!(m.z, 3e9);
+    }
+
+    #[test]
+    fn huge_samples_are_rejected_not_wrapped() {
+        let mut film = Film::new(1, 1);
+        film.add_sample(0, 0, Rgb::new(1.0, 0.0, 0.0));
+        film.add_sample(0, 0, Rgb::new(0.0, 7.1e13, 0.0));
+        film.add_sample(0, 0, Rgb::new(0.0, 0.0, -f32::MAX));
+        film.add_sample(0, 0, Rgb::new(0.0, 7.0e13, 0.0));
+        assert_eq!(film.rejected_samples(), 2);
+        assert_eq!(film.sample_count(0, 0), 2);
+        assert_eq!(film.mean().get(0, 0), Rgb::new(0.5, 3.5e13, 0.0));
+    }
+
+    #[test]
+    fn window_films_use_absolute_coordinates() {
+        let mut film = Film::window(3, 2, 2, 1);
+        film.add_sample(0, 0, Rgb::ONE); // outside
+        film.add_sample(4, 2, Rgb::splat(2.0));
+        assert_eq!(film.total_samples(), 1);
+        assert_eq!(film.sample_count(4, 2), 1);
+        assert_eq!(film.mean().pixels, vec![Rgb::ZERO, Rgb::splat(2.0)]);
+        let tiles = film.tiles(1);
+        assert_eq!((tiles[1].x0, tiles[1].y0), (4, 2));
     }
 }

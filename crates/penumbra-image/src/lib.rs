@@ -1,8 +1,11 @@
 //! Images, film accumulation, tone mapping, file I/O and error metrics for penumbra.
 //!
 //! * [`Image`]: a row-major linear Rec.709 float RGB image (row 0 = top).
-//! * [`Film`] / [`FilmTile`]: per-pixel running mean and variance (Welford) with a
-//!   1-pixel box filter; tiles let threads accumulate disjoint rectangles.
+//! * [`Film`] / [`FilmTile`]: per-pixel sample count, exact sum and sum of
+//!   squares with a 1-pixel box filter; tiles let threads accumulate disjoint
+//!   rectangles.
+//! * [`PartialFilm`]: part of a render (a sample range over a window) as an
+//!   EXR file, and [`merge_parts`] to add parts into the image.
 //! * [`ToneMapping`]: exposure, [`ToneOperator`] and the sRGB OETF for 8-bit output.
 //! * [`write_image`] / [`read_image`]: atomic EXR/PNG writing, EXR/HDR/PNG/JPEG reading.
 //! * [`compare`]: RMSE, relMSE, PSNR and HDR-FLIP against a reference.
@@ -16,6 +19,7 @@ mod flip_ldr;
 pub mod io;
 pub mod memory;
 pub mod metrics;
+pub mod partial_film;
 pub mod png_io;
 pub mod tonemap;
 
@@ -32,7 +36,10 @@ pub use crate::flip::{
 };
 pub use crate::io::{ImageFormat, check_output_path, read_image, write_image};
 pub use crate::memory::available_memory;
-pub use crate::metrics::{Metrics, compare, psnr, rel_mse, rmse};
+pub use crate::metrics::{Metrics, compare, noise_rel_mse, psnr, rel_mse, rmse};
+pub use crate::partial_film::{
+    PartialFilm, merge_parts, parse_range, read_partial_film, write_partial_film,
+};
 pub use crate::tonemap::{
     ToneMapping, ToneOperator, aces_filmic, srgb_eotf, srgb_oetf, tonemap_to_srgb8,
 };

@@ -112,6 +112,21 @@ pub fn psnr(r: &Image, t: &Image) -> f64 {
     20.0 * (peak / e).log10()
 }
 
+/// The relMSE of an estimate of the mean from its variance:
+/// `(1/N) Σ Var[mean] / (r² + 0.01)` over pixels and channels, the
+/// expected relMSE of the image against its own limit.
+pub fn noise_rel_mse(mean: &Image, variance: &Image) -> f64 {
+    let n = 3 * mean.pixels.len();
+    let sum: f64 = mean
+        .pixels
+        .iter()
+        .zip(&variance.pixels)
+        .flat_map(|(m, v)| (0..3).map(move |c| (f64::from(m[c]), f64::from(v[c]))))
+        .map(|(m, v)| v / (m * m + 0.01))
+        .sum();
+    sum / n.max(1) as f64
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -173,5 +188,13 @@ mod tests {
         assert!((m.rel_mse - rel_mse(&r, &t)).abs() < 1e-15);
         assert!(m.flip > 0.0 && m.flip < 1.0);
         assert!(m.psnr.is_finite());
+    }
+
+    #[test]
+    fn noise_estimate_matches_the_formula() {
+        let mean = Image::filled(2, 2, Rgb::new(0.3, 0.0, 1.0));
+        let var = Image::filled(2, 2, Rgb::new(0.001, 0.002, 0.004));
+        let want = (0.001 / (0.09 + 0.01) + 0.002 / 0.01 + 0.004 / 1.01) / 3.0;
+        assert!((noise_rel_mse(&mean, &var) / want - 1.0).abs() < 1e-6);
     }
 }

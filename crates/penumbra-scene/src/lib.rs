@@ -9,6 +9,7 @@
 pub mod builtin;
 pub mod camera;
 pub mod error;
+pub mod fingerprint;
 pub mod load;
 pub mod material;
 pub mod mesh;
@@ -21,6 +22,7 @@ pub mod texture;
 
 pub use camera::{Camera, Projection};
 pub use error::{Location, SceneError};
+pub use fingerprint::{Fnv1a, fingerprint};
 pub use load::{LoadOptions, load_scene};
 pub use material::{Material, MaterialId};
 pub use mesh::{Instance, Mesh, MeshId};

@@ -38,21 +38,6 @@ pub fn percentile(mut values: Vec<f64>, q: f64) -> f64 {
     values[rank - 1]
 }
 
-/// The relMSE of an estimate of the mean from its variance:
-/// `(1/N) Σ Var[mean] / (r² + 0.01)` over pixels and channels, the
-/// expected relMSE of the image against its own limit.
-pub fn noise_rel_mse(mean: &Image, variance: &Image) -> f64 {
-    let n = 3 * mean.pixels.len();
-    let sum: f64 = mean
-        .pixels
-        .iter()
-        .zip(&variance.pixels)
-        .flat_map(|(m, v)| (0..3).map(move |c| (f64::from(m[c]), f64::from(v[c]))))
-        .map(|(m, v)| v / (m * m + 0.01))
-        .sum();
-    sum / n.max(1) as f64
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -78,14 +63,6 @@ mod tests {
         assert!((r[0] - 1.375).abs() < 1e-12);
         assert!((r[1] - 0.5).abs() < 1e-12);
         assert!(r[2].is_nan());
-    }
-
-    #[test]
-    fn noise_estimate_matches_the_formula() {
-        let mean = Image::filled(2, 2, Rgb::new(0.3, 0.0, 1.0));
-        let var = Image::filled(2, 2, Rgb::new(0.001, 0.002, 0.004));
-        let want = (0.001 / (0.09 + 0.01) + 0.002 / 0.01 + 0.004 / 1.01) / 3.0;
-        assert!((noise_rel_mse(&mean, &var) / want - 1.0).abs() < 1e-6);
     }
 
     #[test]

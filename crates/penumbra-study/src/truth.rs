@@ -5,8 +5,8 @@
 //! pixel, within an optional time budget; its own remaining noise is
 //! reported so no technique is judged against noise.
 
-use crate::measure::noise_rel_mse;
 use penumbra_image::Image;
+use penumbra_image::noise_rel_mse;
 use penumbra_scene::{IntegratorKind, RenderSettings, Scene};
 use penumbra_trace::{RenderOptions, render};
 use std::time::{Duration, Instant};

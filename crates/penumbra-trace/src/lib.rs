@@ -12,4 +12,7 @@ pub mod ray;
 pub mod render;
 pub mod stats;
 
-pub use render::{Progress, RenderOptions, RenderOutput, render, scene_camera};
+pub use render::{
+    Crop, MIN_SPP_FOR_TARGET, Progress, RenderOptions, RenderOutput, Resume, Stop, render,
+    scene_camera,
+};

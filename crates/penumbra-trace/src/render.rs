@@ -2,19 +2,22 @@
 //! samples so that long renders report progress and can stop at a time limit.
 //!
 //! Reproducibility: the random numbers of sample `s` of pixel (x, y) depend
-//! only on (x, y, s, seed), and each pixel's samples are accumulated in
-//! sample order by the one task that owns its tile, so the image is
-//! bit-identical for any thread count.
+//! only on (x, y, s, seed), and the film adds samples exactly (fixed-point
+//! sums, [`penumbra_image::film`]), so the image is bit-identical for any
+//! thread count, and a render split by sample range ([`RenderOptions::samples`])
+//! or window ([`RenderOptions::crop`]), or stopped and resumed
+//! ([`RenderOptions::resume`]), adds up to the same bits as one whole render.
 
 use crate::accel::BuildQuality;
 use crate::geometry::SceneGeometry;
 use crate::integrator::TraceContext;
 use crate::lights::LightSampler;
 use glam::Vec3;
-use penumbra_image::{Film, FilmTile, Image};
+use penumbra_image::{Film, FilmTile, Image, noise_rel_mse};
 use penumbra_scene::{Camera, Projection, RenderSettings, Scene};
 use penumbra_shading::sampling::Sampler;
 use rayon::prelude::*;
+use std::ops::Range;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
@@ -30,7 +33,42 @@ pub struct Progress {
     pub samples_total: u64,
 }
 
-/// Options that do not change the image.
+/// Samples per pixel a film must hold before `target_rel_mse` is tested:
+/// a variance estimate from fewer samples is too noisy to stop on (and from
+/// one sample it is zero).
+pub const MIN_SPP_FOR_TARGET: u32 = 16;
+
+/// A window of the image: columns `x`, rows `y`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Crop {
+    pub x: Range<u32>,
+    pub y: Range<u32>,
+}
+
+/// A film to continue: it holds samples `samples.start..next` of every
+/// pixel of the render's window.
+#[derive(Clone, Debug)]
+pub struct Resume {
+    pub film: Film,
+    /// The first sample index the film does not hold.
+    pub next: u32,
+}
+
+/// Why a render ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stop {
+    /// Every sample of the range was taken.
+    Complete,
+    /// `time_limit` passed.
+    TimeLimit,
+    /// The film's own noise estimate reached `target_rel_mse`.
+    TargetReached,
+}
+
+/// A callback given the film and the sample range it holds.
+pub type CheckpointFn<'a> = dyn Fn(&Film, Range<u32>) + Sync + 'a;
+
+/// Which samples of which pixels to take, and when to stop.
 #[derive(Default)]
 pub struct RenderOptions<'a> {
     /// Stop after the pass during which this much time has passed.
@@ -40,6 +78,21 @@ pub struct RenderOptions<'a> {
     /// Also accumulate albedo, normal and depth.
     pub aovs: bool,
     pub build_quality: BuildQuality,
+    /// Sample indices to take in every pixel (default `0..settings.spp`):
+    /// the same numbers a whole render draws for them.
+    pub samples: Option<Range<u32>>,
+    /// Only these pixels (default: the whole image); the output images
+    /// cover the window.
+    pub crop: Option<Crop>,
+    /// Continue this film instead of starting an empty one; its window
+    /// must be the crop's.
+    pub resume: Option<Resume>,
+    /// Called after every pass with the film and the sample range it holds.
+    pub checkpoint: Option<&'a CheckpointFn<'a>>,
+    /// Stop after the first pass at which the film's estimate of its own
+    /// relMSE ([`penumbra_image::noise_rel_mse`]) is at most this, once
+    /// every pixel holds [`MIN_SPP_FOR_TARGET`] samples.
+    pub target_rel_mse: Option<f64>,
 }
 
 impl std::fmt::Debug for RenderOptions<'_> {
@@ -47,6 +100,10 @@ impl std::fmt::Debug for RenderOptions<'_> {
         f.debug_struct("RenderOptions")
             .field("time_limit", &self.time_limit)
             .field("aovs", &self.aovs)
+            .field("samples", &self.samples)
+            .field("crop", &self.crop)
+            .field("resume", &self.resume.as_ref().map(|r| r.next))
+            .field("target_rel_mse", &self.target_rel_mse)
             .finish()
     }
 }
@@ -54,14 +111,20 @@ impl std::fmt::Debug for RenderOptions<'_> {
 /// A finished render.
 #[derive(Clone, Debug)]
 pub struct RenderOutput {
-    /// Mean radiance per pixel.
+    /// Mean radiance per pixel (of the crop window, if any).
     pub image: Image,
     /// Variance of the per-pixel mean (s²/n).
     pub variance: Image,
     /// (name, image) pairs: `albedo`, `normal`, `depth` when requested.
     pub aovs: Vec<(String, Image)>,
-    /// Samples per pixel actually taken (fewer than asked after a time limit).
+    /// Samples per pixel the film holds (fewer than asked after a time
+    /// limit or a reached target).
     pub spp: u32,
+    /// The sample indices the film holds.
+    pub samples: Range<u32>,
+    /// The radiance sums, to write as a partial film or merge.
+    pub film: Film,
+    pub stop: Stop,
     pub build_seconds: f64,
     pub render_seconds: f64,
 }
@@ -93,15 +156,15 @@ struct TileRect {
     h: u32,
 }
 
-fn tiles(width: u32, height: u32) -> Vec<TileRect> {
+fn tiles(crop: &Crop) -> Vec<TileRect> {
     let mut out = Vec::new();
-    for y0 in (0..height).step_by(TILE as usize) {
-        for x0 in (0..width).step_by(TILE as usize) {
+    for y0 in crop.y.clone().step_by(TILE as usize) {
+        for x0 in crop.x.clone().step_by(TILE as usize) {
             out.push(TileRect {
                 x0,
                 y0,
-                w: TILE.min(width - x0),
-                h: TILE.min(height - y0),
+                w: TILE.min(crop.x.end - x0),
+                h: TILE.min(crop.y.end - y0),
             });
         }
     }
@@ -109,6 +172,10 @@ fn tiles(width: u32, height: u32) -> Vec<TileRect> {
 }
 
 /// Renders `scene` with `settings` (which override the scene's own).
+///
+/// Panics if `options` are inconsistent (a crop outside the image, a sample
+/// range beyond `settings.spp`, a resume film of another window or past the
+/// range): callers check user input first.
 pub fn render(scene: &Scene, settings: &RenderSettings, options: &RenderOptions) -> RenderOutput {
     let t0 = Instant::now();
     let geometry = SceneGeometry::build(scene, options.build_quality);
@@ -122,34 +189,56 @@ pub fn render(scene: &Scene, settings: &RenderSettings, options: &RenderOptions)
     };
     let camera = scene_camera(scene);
     let (w, h) = (settings.width, settings.height);
-    let rects = tiles(w, h);
-    let mut film = Film::new(w, h);
+    let crop = options.crop.clone().unwrap_or(Crop { x: 0..w, y: 0..h });
+    assert!(crop.x.end <= w && crop.y.end <= h, "crop outside the image");
+    let samples = options.samples.clone().unwrap_or(0..settings.spp);
+    assert!(samples.start <= samples.end, "empty sample range");
+    let (cw, ch) = (crop.x.len() as u32, crop.y.len() as u32);
+    let rects = tiles(&crop);
+    let (mut film, first) = match &options.resume {
+        Some(r) => {
+            assert!(
+                (r.film.x0(), r.film.y0(), r.film.width(), r.film.height())
+                    == (crop.x.start, crop.y.start, cw, ch),
+                "the resumed film covers another window"
+            );
+            assert!(samples.contains(&r.next) || r.next == samples.end);
+            (r.film.clone(), r.next)
+        }
+        None => (
+            Film::window(crop.x.start, crop.y.start, cw, ch),
+            samples.start,
+        ),
+    };
     let aov_names = ["albedo", "normal", "depth"];
     let mut aov_films: Vec<Film> = if options.aovs {
-        aov_names.iter().map(|_| Film::new(w, h)).collect()
+        aov_names
+            .iter()
+            .map(|_| Film::window(crop.x.start, crop.y.start, cw, ch))
+            .collect()
     } else {
         Vec::new()
     };
-    let done = AtomicU64::new(0);
-    let total = w as u64 * h as u64 * settings.spp as u64;
+    let pixels = u64::from(cw) * u64::from(ch);
+    let done = AtomicU64::new(pixels * u64::from(first - samples.start));
+    let total = pixels * samples.len() as u64;
     let t1 = Instant::now();
     // Passes grow so early ones give quick feedback and later ones amortise.
-    let mut spp_done = 0u32;
+    let mut next = first;
     let mut pass_spp = 1u32;
-    while spp_done < settings.spp {
-        let s0 = spp_done;
-        let s1 = (s0 + pass_spp).min(settings.spp);
+    let mut stop = Stop::Complete;
+    while next < samples.end {
+        let s0 = next;
+        let s1 = (s0 + pass_spp).min(samples.end);
         let results: Vec<(FilmTile, Vec<FilmTile>)> = rects
             .par_iter()
             .map(|r| {
                 let out = render_tile(&ctx, &camera, r, s0, s1, options.aovs);
-                let n = done.fetch_add(
-                    r.w as u64 * r.h as u64 * (s1 - s0) as u64,
-                    Ordering::Relaxed,
-                );
+                let n = r.w as u64 * r.h as u64 * (s1 - s0) as u64;
+                let before = done.fetch_add(n, Ordering::Relaxed);
                 if let Some(p) = options.progress {
                     p(Progress {
-                        samples_done: n + r.w as u64 * r.h as u64 * (s1 - s0) as u64,
+                        samples_done: before + n,
                         samples_total: total,
                     });
                 }
@@ -162,13 +251,26 @@ pub fn render(scene: &Scene, settings: &RenderSettings, options: &RenderOptions)
                 f.merge_tile(t);
             }
         }
-        spp_done = s1;
+        next = s1;
         pass_spp = (pass_spp * 2).min(64);
-        if options
-            .time_limit
-            .is_some_and(|limit| t1.elapsed() >= limit)
-        {
-            break;
+        if let Some(c) = options.checkpoint {
+            c(&film, samples.start..next);
+        }
+        if next < samples.end {
+            if options
+                .target_rel_mse
+                .is_some_and(|t| target_reached(&film, next - samples.start, t))
+            {
+                stop = Stop::TargetReached;
+                break;
+            }
+            if options
+                .time_limit
+                .is_some_and(|limit| t1.elapsed() >= limit)
+            {
+                stop = Stop::TimeLimit;
+                break;
+            }
         }
     }
     RenderOutput {
@@ -179,10 +281,19 @@ pub fn render(scene: &Scene, settings: &RenderSettings, options: &RenderOptions)
             .zip(&aov_films)
             .map(|(n, f)| (n.to_string(), f.mean()))
             .collect(),
-        spp: spp_done,
+        spp: next - samples.start,
+        samples: samples.start..next,
+        film,
+        stop,
         build_seconds,
         render_seconds: t1.elapsed().as_secs_f64(),
     }
+}
+
+/// Whether `film`, holding `spp` samples per pixel, estimates its own
+/// relMSE at or below `target`.
+fn target_reached(film: &Film, spp: u32, target: f64) -> bool {
+    spp >= MIN_SPP_FOR_TARGET && noise_rel_mse(&film.mean(), &film.variance()) <= target
 }
 
 fn render_tile(

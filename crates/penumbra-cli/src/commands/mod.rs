@@ -4,5 +4,7 @@ pub mod bench_bake;
 pub mod bench_raster;
 pub mod compare;
 pub mod info;
+pub mod merge;
+pub mod partial;
 pub mod render;
 pub mod study;

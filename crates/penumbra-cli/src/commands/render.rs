@@ -1,5 +1,6 @@
 //! `penumbra render`.
 
+use crate::commands::partial::{Checkpointer, PartArgs, RenderIdentity};
 use crate::options::{
     check_image_memory, parse_length, parse_msaa, parse_positive, parse_resolution, parse_seconds,
     scene_or_builtin, thread_pool,
@@ -13,7 +14,7 @@ use penumbra_raster::{
     DEFAULT_SHADOW_MAP_SIZE, MAX_ENVIRONMENT_TAPS, MAX_PCF, RasterOptions, ShadowMode,
 };
 use penumbra_scene::{IntegratorKind, RenderSettings, Scene};
-use penumbra_trace::{Progress, RenderOptions, render, scene_camera};
+use penumbra_trace::{Progress, RenderOptions, Stop, render, scene_camera};
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::time::Duration;
@@ -93,6 +94,8 @@ pub struct RenderArgs {
     pub bake: Vec<PathBuf>,
     #[command(flatten)]
     pub ao: AoArgs,
+    #[command(flatten)]
+    pub parts: PartArgs,
 }
 
 /// The screen-space AO flags of `render` and `bench` (raster engine).
@@ -203,6 +206,15 @@ pub enum ToneArg {
     Clamp,
 }
 
+impl ToneArg {
+    pub fn operator(self) -> ToneOperator {
+        match self {
+            ToneArg::Filmic => ToneOperator::Filmic,
+            ToneArg::Clamp => ToneOperator::Clamp,
+        }
+    }
+}
+
 pub fn run(args: RenderArgs) -> Result<()> {
     // Check the output before spending time on loading and rendering.
     check_output_path(&args.output)?;
@@ -227,21 +239,30 @@ pub fn run(args: RenderArgs) -> Result<()> {
     if let Some(d) = args.ao_distance {
         settings.ao_distance = d as f32;
     }
-    // Film: mean + M2 + count ≈ 28 B; output copies and AOVs ≈ 48 B more.
+    // Film: count + exact sums + sums of squares ≈ 80 B; a checkpoint's
+    // copy, output copies and AOVs ≈ 100 B more.
     check_image_memory(
         settings.width,
         settings.height,
-        if args.aovs { 160 } else { 80 },
+        if args.aovs { 420 } else { 180 },
     )?;
+    args.parts.check(&settings, &args.output, args.aovs)?;
 
     let tm = ToneMapping {
         exposure_ev: args.exposure,
-        operator: match args.tonemap {
-            ToneArg::Filmic => ToneOperator::Filmic,
-            ToneArg::Clamp => ToneOperator::Clamp,
-        },
+        operator: args.tonemap.operator(),
     };
     if args.engine == Engine::Raster {
+        let p = &args.parts;
+        if p.writes_partial()
+            || p.checkpoint.is_some()
+            || p.resume.is_some()
+            || p.target_relmse.is_some()
+        {
+            bail!(
+                "--samples, --crop, --checkpoint, --resume and --target-relmse apply to --engine trace only (a raster frame is one pass)"
+            );
+        }
         return render_raster(&args, &scene, &settings, &tm);
     }
     if args.msaa != 1 {
@@ -267,8 +288,22 @@ pub fn run(args: RenderArgs) -> Result<()> {
         }
     }
 
+    let identity = RenderIdentity::new(&scene, &settings, &args.parts);
+    let resume = args.parts.resume(&identity)?;
+    let resumed_at = resume.as_ref().map(|r| r.next);
+    let checkpoints = args
+        .parts
+        .checkpoint_file()
+        .map(|path| Checkpointer::new(path, args.parts.checkpoint_every, &identity));
+    let checkpoint = |film: &penumbra_image::Film, samples: std::ops::Range<u32>| {
+        if let Some(c) = &checkpoints {
+            c.pass_done(film, samples);
+        }
+    };
     let bar = std::io::stderr().is_terminal().then(|| {
-        let total = settings.width as u64 * settings.height as u64 * settings.spp as u64;
+        let total = u64::from(identity.window.x.len() as u32)
+            * u64::from(identity.window.y.len() as u32)
+            * identity.samples.len() as u64;
         let pb = ProgressBar::new(total);
         pb.set_style(
             ProgressStyle::with_template("{spinner} [{elapsed_precise}] {wide_bar} {percent:>3}% {per_sec} samples, ETA {eta}")
@@ -285,6 +320,11 @@ pub fn run(args: RenderArgs) -> Result<()> {
         time_limit: args.time_limit.map(Duration::from_secs_f64),
         progress: Some(&report),
         aovs: args.aovs,
+        samples: Some(identity.samples.clone()),
+        crop: Some(identity.window.clone()),
+        resume,
+        checkpoint: Some(&checkpoint),
+        target_rel_mse: args.parts.target_relmse,
         ..Default::default()
     };
     let pool = thread_pool(args.threads)?;
@@ -292,21 +332,41 @@ pub fn run(args: RenderArgs) -> Result<()> {
     if let Some(b) = &bar {
         b.finish_and_clear();
     }
-    let aovs: Vec<(&str, &penumbra_image::Image)> =
-        out.aovs.iter().map(|(n, i)| (n.as_str(), i)).collect();
-    write_image(&args.output, &out.image, &aovs, &tm)
-        .with_context(|| format!("writing {}", args.output.display()))?;
+    if let Some(c) = checkpoints {
+        c.finish()?;
+    }
+    if args.parts.writes_partial() {
+        let part = identity.part(out.film, out.samples.clone());
+        penumbra_image::write_partial_film(&args.output, &part)?;
+    } else {
+        let aovs: Vec<(&str, &penumbra_image::Image)> =
+            out.aovs.iter().map(|(n, i)| (n.as_str(), i)).collect();
+        write_image(&args.output, &out.image, &aovs, &tm)
+            .with_context(|| format!("writing {}", args.output.display()))?;
+    }
+    let ended = match out.stop {
+        Stop::Complete => "complete".to_string(),
+        Stop::TimeLimit => "stopped by --time-limit".to_string(),
+        Stop::TargetReached => format!(
+            "stopped at --target-relmse, estimated relMSE {:.3e}",
+            penumbra_image::noise_rel_mse(&out.image, &out.variance)
+        ),
+    };
+    let part = if args.parts.writes_partial() {
+        format!(
+            ", partial film of samples {}..{}",
+            out.samples.start, out.samples.end
+        )
+    } else {
+        String::new()
+    };
+    let resumed = resumed_at.map_or(String::new(), |n| format!(", resumed at sample {n}"));
     eprintln!(
-        "penumbra: {} {}x{} at {} spp ({}) in {:.2} s (+{:.2} s BVH) -> {}",
+        "penumbra: {} {}x{} at {} spp ({ended}{resumed}{part}) in {:.2} s (+{:.2} s BVH) -> {}",
         settings.integrator,
-        settings.width,
-        settings.height,
+        identity.window.x.len(),
+        identity.window.y.len(),
         out.spp,
-        if out.spp < settings.spp {
-            "stopped by --time-limit"
-        } else {
-            "complete"
-        },
         out.render_seconds,
         out.build_seconds,
         args.output.display()
