@@ -40,7 +40,7 @@
 #                           silently (seen with 22.05). Per job: sbatch --kill-on-invalid-dep=yes.
 #   SchedulerParameters=sched_interval=1,bf_interval=1
 #                           run the periodic main and backfill passes every second (defaults 60 s
-#                           and 30 s): a 4-task array on 2 CPUs plus an afterok job then takes ~2 s
+#                           and 30 s): a 4-task array on 2 CPUs plus an afterok job then takes 1-3 s
 #                           end to end instead of 6-10 s (mostly thanks to bf_interval).
 #   MinJobAge=600           finished jobs stay visible to squeue/scontrol show job for 10 min,
 #                           which is how a test reads the final state without sacct.
@@ -65,6 +65,8 @@ alive() {
   [ -f "$pf" ] || return 1
   pid=$($SUDO cat "$pf" 2>/dev/null) || return 1
   [ -n "$pid" ] && [ -d "/proc/$pid" ] || return 1
+  # A killed daemon may linger as a zombie until the container's init reaps it.
+  [ "$(awk '{print $3}' "/proc/$pid/stat" 2>/dev/null)" != Z ] || return 1
   case "$(cat "/proc/$pid/comm" 2>/dev/null)" in "$name"*) return 0 ;; *) return 1 ;; esac
 }
 
@@ -242,10 +244,10 @@ stop_pidfile() {
   pid=$($SUDO cat "$pf")
   $SUDO kill -TERM "$pid" 2>/dev/null || true
   for i in $(seq 1 100); do
-    [ -d "/proc/$pid" ] || break
+    alive "$pf" "$name" || break
     sleep 0.1
   done
-  if [ -d "/proc/$pid" ]; then
+  if alive "$pf" "$name"; then
     log "$name ($pid) did not stop; killing it"
     $SUDO kill -KILL "$pid" 2>/dev/null || true
   fi
@@ -269,7 +271,9 @@ cmd_status() {
     echo "node $HOST is $(node_state)"
     return 0
   fi
-  if ctld_listening; then
+  if ours_dead; then
+    echo "not running: a daemon this script started has died (pid files in $STATE/run)" >&2
+  elif ctld_listening; then
     echo "not ready (node state: '$(node_state)')" >&2
   else
     echo "not running (nothing listens on port 6817)" >&2

@@ -36,4 +36,22 @@ if [ ! -f tools/gltf-validator/node_modules/gltf-validator/package.json ]; then
   fi
 fi
 
+# The farm tests check Kubernetes manifests with the official Python client
+# (Debian's python3-kubernetes, run by /usr/bin/python3), and submit job
+# arrays to a real single-node Slurm cluster that scripts/slurm-local.sh
+# installs (slurm-wlm, munge) and starts here; it is stopped again at the end.
+# Without them those tests fail and say so (PENUMBRA_SKIP_SLURM=1 skips Slurm).
+if command -v apt-get >/dev/null 2>&1 && ! /usr/bin/python3 -c "import kubernetes" >/dev/null 2>&1; then
+  SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+  $SUDO apt-get update -qq || true
+  $SUDO apt-get install -y -qq python3-kubernetes >/dev/null || echo "warning: could not install python3-kubernetes; the Kubernetes manifest test will fail" >&2
+fi
+if [ "${PENUMBRA_SKIP_SLURM:-0}" != 1 ] && ! bash scripts/slurm-local.sh status >/dev/null 2>&1; then
+  if bash scripts/slurm-local.sh start; then
+    trap 'bash scripts/slurm-local.sh stop || true' EXIT
+  else
+    echo "warning: could not start a local Slurm cluster; the Slurm farm test will fail (PENUMBRA_SKIP_SLURM=1 skips it)" >&2
+  fi
+fi
+
 cargo test --workspace --locked "$@"

@@ -25,6 +25,8 @@ enum Command {
     Info(commands::info::InfoArgs),
     /// Add the partial films of a split render (`render --samples/--crop`) into its image, checking that they fit together.
     Merge(commands::merge::MergeArgs),
+    /// Split a render into tasks for a scheduler (Slurm job array, Kubernetes Indexed Job), run a task, merge the parts, show their status.
+    Farm(commands::farm::FarmArgs),
     /// Compare a test image with a reference: RMSE, relMSE, PSNR and HDR-FLIP.
     Compare(commands::compare::CompareArgs),
     /// Precompute ambient occlusion, irradiance light maps or radiosity into a light-map atlas.
@@ -42,6 +44,7 @@ fn main() -> ExitCode {
         Command::Info(a) => commands::info::run(a),
         Command::Compare(a) => commands::compare::run(a),
         Command::Merge(a) => commands::merge::run(a),
+        Command::Farm(a) => commands::farm::run(a),
         Command::Bench(a) => commands::bench::run(a),
         Command::Bake(a) => commands::bake::run(a),
         Command::Study(a) => commands::study::run(a),

@@ -3,6 +3,7 @@ pub mod bench;
 pub mod bench_bake;
 pub mod bench_raster;
 pub mod compare;
+pub mod farm;
 pub mod info;
 pub mod merge;
 pub mod partial;

@@ -215,6 +215,28 @@ impl ToneArg {
     }
 }
 
+/// `penumbra render` as its own command line, for jobs that run a render
+/// described by arguments (the farm's tasks).
+#[derive(clap::Parser, Debug)]
+#[command(name = "penumbra")]
+struct RenderCommand {
+    #[command(subcommand)]
+    command: RenderOnly,
+}
+
+#[derive(clap::Subcommand, Debug)]
+enum RenderOnly {
+    Render(RenderArgs),
+}
+
+/// Runs `penumbra render ARGS...` (`args[0]` is `"render"`).
+pub fn run_argv(args: &[String]) -> Result<()> {
+    use clap::Parser;
+    let argv = std::iter::once("penumbra".to_string()).chain(args.iter().cloned());
+    let RenderOnly::Render(a) = RenderCommand::try_parse_from(argv)?.command;
+    run(a)
+}
+
 pub fn run(args: RenderArgs) -> Result<()> {
     // Check the output before spending time on loading and rendering.
     check_output_path(&args.output)?;

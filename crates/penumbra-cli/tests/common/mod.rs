@@ -1,5 +1,6 @@
 //! What the command-line tests share: running the binary, its stderr, the
 //! files a run left.
+#![allow(dead_code)] // each test binary uses some of these
 
 use std::path::Path;
 use std::process::{Command, Output};
