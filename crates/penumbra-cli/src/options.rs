@@ -2,7 +2,7 @@
 
 use anyhow::{Context, Result, bail};
 use penumbra_image::available_memory;
-use penumbra_scene::{LoadOptions, Scene};
+use penumbra_scene::{IntegratorKind, LoadOptions, RenderSettings, Scene};
 use std::path::Path;
 
 /// Largest image edge accepted.
@@ -117,4 +117,72 @@ pub fn thread_pool(threads: Option<u32>) -> Result<rayon::ThreadPool> {
         b = b.num_threads(n as usize);
     }
     b.build().context("cannot start worker threads")
+}
+
+/// The flags that set a render's [`RenderSettings`] (`render`, `farm`).
+#[derive(clap::Args, Clone, Debug, Default)]
+pub struct SettingsArgs {
+    /// local | direct | whitted | path | ao (default: the scene's, else path).
+    #[arg(long, value_parser = |s: &str| s.parse::<IntegratorKind>())]
+    pub integrator: Option<IntegratorKind>,
+    /// Samples per pixel.
+    #[arg(long, value_parser = parse_positive, allow_negative_numbers = true)]
+    pub spp: Option<u32>,
+    /// Maximum path segments from the camera (Mitsuba's max_depth: 1 = emitters only, 2 = direct light).
+    #[arg(long, value_parser = parse_positive, allow_negative_numbers = true)]
+    pub max_depth: Option<u32>,
+    /// Image size WIDTHxHEIGHT.
+    #[arg(long, value_parser = parse_resolution)]
+    pub resolution: Option<(u32, u32)>,
+    /// Random seed; the same seed gives the same image for any thread count.
+    #[arg(long)]
+    pub seed: Option<u32>,
+    /// Ambient-occlusion ray length in scene units (default: unlimited).
+    #[arg(long, value_parser = parse_length, allow_negative_numbers = true)]
+    pub ao_distance: Option<f64>,
+}
+
+impl SettingsArgs {
+    /// Overrides the scene's settings with the flags given.
+    pub fn apply(&self, settings: &mut RenderSettings) {
+        if let Some(i) = self.integrator {
+            settings.integrator = i;
+        }
+        if let Some(s) = self.spp {
+            settings.spp = s;
+        }
+        if let Some(d) = self.max_depth {
+            settings.max_depth = d;
+        }
+        if let Some((w, h)) = self.resolution {
+            settings.width = w;
+            settings.height = h;
+        }
+        if let Some(s) = self.seed {
+            settings.seed = s;
+        }
+        if let Some(d) = self.ao_distance {
+            settings.ao_distance = d as f32;
+        }
+    }
+
+    /// The flags given, as `penumbra render` arguments.
+    pub fn to_args(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        let mut flag = |name: &str, value: Option<String>| {
+            if let Some(v) = value {
+                out.extend([name.to_string(), v]);
+            }
+        };
+        flag("--integrator", self.integrator.map(|i| i.to_string()));
+        flag("--spp", self.spp.map(|s| s.to_string()));
+        flag("--max-depth", self.max_depth.map(|d| d.to_string()));
+        flag(
+            "--resolution",
+            self.resolution.map(|(w, h)| format!("{w}x{h}")),
+        );
+        flag("--seed", self.seed.map(|s| s.to_string()));
+        flag("--ao-distance", self.ao_distance.map(|d| d.to_string()));
+        out
+    }
 }

@@ -120,15 +120,16 @@ struct Group {
     rgby: [Option<usize>; 4],
 }
 
-/// Decodes an EXR file held in memory.
-pub(crate) fn decode(path: &Path, bytes: &[u8]) -> Result<ExrLayers, ImageError> {
-    let err = |message: String| ImageError::Decode {
-        path: path.to_path_buf(),
-        format: "EXR",
-        message,
-    };
+/// An EXR file as the `exr` crate reads it: every part, channel and attribute.
+pub(crate) type AnyExr = ::exr::image::Image<::exr::image::Layers<AnyChannels<FlatSamples>>>;
 
-    // Validate the header first, so absurd sizes are refused before allocating.
+/// Reads every part, channel and attribute of an EXR file held in memory,
+/// after checking the header, so absurd sizes are refused before allocating;
+/// `err` wraps a message in the caller's error.
+pub(crate) fn read_any(
+    bytes: &[u8],
+    err: &dyn Fn(String) -> ImageError,
+) -> Result<AnyExr, ImageError> {
     let meta = guard(
         || {
             ::exr::meta::MetaData::read_from_buffered(Cursor::new(bytes), true)
@@ -142,8 +143,7 @@ pub(crate) fn decode(path: &Path, bytes: &[u8]) -> Result<ExrLayers, ImageError>
             return Err(err(format!("image size {w}x{h} is too large")));
         }
     }
-
-    let image = guard(
+    guard(
         || {
             ::exr::prelude::read()
                 .no_deep_data()
@@ -156,7 +156,18 @@ pub(crate) fn decode(path: &Path, bytes: &[u8]) -> Result<ExrLayers, ImageError>
                 .map_err(|e| e.to_string())
         },
         err,
-    )?;
+    )
+}
+
+/// Decodes an EXR file held in memory.
+pub(crate) fn decode(path: &Path, bytes: &[u8]) -> Result<ExrLayers, ImageError> {
+    let err = |message: String| ImageError::Decode {
+        path: path.to_path_buf(),
+        format: "EXR",
+        message,
+    };
+
+    let image = read_any(bytes, &err)?;
 
     let mut found: Vec<(String, Image)> = Vec::new();
     let mut all_names: Vec<String> = Vec::new();

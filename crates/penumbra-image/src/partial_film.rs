@@ -25,12 +25,12 @@ use std::path::{Path, PathBuf};
 
 use ::exr::prelude::{
     AnyChannel, AnyChannels, AttributeValue, Encoding, FlatSamples, ImageAttributes, IntegerBounds,
-    LayerAttributes, ReadChannels, ReadLayers, Text, Vec2, WritableImage,
+    LayerAttributes, Text, Vec2, WritableImage,
 };
 use glam::DVec3;
 
 use crate::buffer::pixel_count;
-use crate::exr_io::MAX_EXR_PIXELS;
+use crate::exr_io::read_any;
 use crate::film::PixelStats;
 use crate::io::{check_output_path, guard, read_file, write_atomic};
 use crate::{Film, ImageError};
@@ -219,33 +219,7 @@ fn decode(path: &Path, bytes: &[u8]) -> Result<PartialFilm, ImageError> {
         format: "EXR partial film",
         message,
     };
-    let meta = guard(
-        || {
-            ::exr::meta::MetaData::read_from_buffered(Cursor::new(bytes), true)
-                .map_err(|e| e.to_string())
-        },
-        err,
-    )?;
-    for header in meta.headers.iter() {
-        let (w, h) = (header.layer_size.0, header.layer_size.1);
-        if w.checked_mul(h).is_none_or(|n| n > MAX_EXR_PIXELS) {
-            return Err(err(format!("image size {w}x{h} is too large")));
-        }
-    }
-    let image = guard(
-        || {
-            ::exr::prelude::read()
-                .no_deep_data()
-                .largest_resolution_level()
-                .all_channels()
-                .all_layers()
-                .all_attributes()
-                .pedantic()
-                .from_buffered(Cursor::new(bytes))
-                .map_err(|e| e.to_string())
-        },
-        err,
-    )?;
+    let image = read_any(bytes, &err)?;
     let [layer] = image.layer_data.as_slice() else {
         return Err(err(format!(
             "a partial film has one part, this file has {}",

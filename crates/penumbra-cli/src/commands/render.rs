@@ -2,7 +2,7 @@
 
 use crate::commands::partial::{Checkpointer, PartArgs, RenderIdentity};
 use crate::options::{
-    check_image_memory, parse_length, parse_msaa, parse_positive, parse_resolution, parse_seconds,
+    SettingsArgs, check_image_memory, parse_length, parse_msaa, parse_positive, parse_seconds,
     scene_or_builtin, thread_pool,
 };
 use anyhow::{Context, Result, bail};
@@ -26,30 +26,14 @@ pub struct RenderArgs {
     /// Output image: .png (tone-mapped sRGB) or .exr (linear float RGB).
     #[arg(short, long, default_value = "penumbra.png")]
     pub output: PathBuf,
-    /// local | direct | whitted | path | ao (default: the scene's, else path).
-    #[arg(long, value_parser = |s: &str| s.parse::<IntegratorKind>())]
-    pub integrator: Option<IntegratorKind>,
-    /// Samples per pixel.
-    #[arg(long, value_parser = parse_positive, allow_negative_numbers = true)]
-    pub spp: Option<u32>,
-    /// Maximum path segments from the camera (Mitsuba's max_depth: 1 = emitters only, 2 = direct light).
-    #[arg(long, value_parser = parse_positive, allow_negative_numbers = true)]
-    pub max_depth: Option<u32>,
-    /// Image size WIDTHxHEIGHT.
-    #[arg(long, value_parser = parse_resolution)]
-    pub resolution: Option<(u32, u32)>,
-    /// Random seed; the same seed gives the same image for any thread count.
-    #[arg(long)]
-    pub seed: Option<u32>,
+    #[command(flatten)]
+    pub settings: SettingsArgs,
     /// Worker threads (default: all cores).
     #[arg(long, value_parser = parse_positive, allow_negative_numbers = true)]
     pub threads: Option<u32>,
     /// Stop after this many seconds (at the end of a sample pass).
     #[arg(long, value_parser = parse_seconds, allow_negative_numbers = true)]
     pub time_limit: Option<f64>,
-    /// Ambient-occlusion ray length in scene units (default: unlimited).
-    #[arg(long, value_parser = parse_length, allow_negative_numbers = true)]
-    pub ao_distance: Option<f64>,
     /// Also write albedo, normal and depth layers (EXR only).
     #[arg(long)]
     pub aovs: bool,
@@ -242,25 +226,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
     check_output_path(&args.output)?;
     let scene = scene_or_builtin(args.scene.as_deref())?;
     let mut settings = scene.settings.clone();
-    if let Some(i) = args.integrator {
-        settings.integrator = i;
-    }
-    if let Some(s) = args.spp {
-        settings.spp = s;
-    }
-    if let Some(d) = args.max_depth {
-        settings.max_depth = d;
-    }
-    if let Some((w, h)) = args.resolution {
-        settings.width = w;
-        settings.height = h;
-    }
-    if let Some(s) = args.seed {
-        settings.seed = s;
-    }
-    if let Some(d) = args.ao_distance {
-        settings.ao_distance = d as f32;
-    }
+    args.settings.apply(&mut settings);
     // Film: count + exact sums + sums of squares ≈ 80 B; a checkpoint's
     // copy, output copies and AOVs ≈ 100 B more.
     check_image_memory(
@@ -416,7 +382,11 @@ fn render_raster(
         .map(|dir| penumbra_bake::read_bake(dir, scene))
         .collect::<Result<_, _>>()?;
     let maps = penumbra_raster::BakedMaps::from_bakes(&bakes)?;
-    if args.integrator.is_some_and(|i| i != IntegratorKind::Local) {
+    if args
+        .settings
+        .integrator
+        .is_some_and(|i| i != IntegratorKind::Local)
+    {
         eprintln!(
             "penumbra: warning: --engine raster shades like --integrator local (direct light from the abstract lights; shadows only with --shadows map|planar|volume); --integrator is ignored"
         );

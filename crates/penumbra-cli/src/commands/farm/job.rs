@@ -3,10 +3,9 @@
 //! task finds its work from the directory alone (a shared file system seen
 //! at different paths on the submit host, the nodes or a pod).
 
-use crate::options::{parse_length, parse_positive, parse_resolution, scene_or_builtin};
+use crate::options::{SettingsArgs, parse_positive, scene_or_builtin};
 use anyhow::{Context, Result, bail};
 use clap::Args;
-use penumbra_scene::IntegratorKind;
 use serde::{Deserialize, Serialize};
 use std::ops::Range;
 use std::path::{Component, Path, PathBuf};
@@ -15,30 +14,6 @@ use std::path::{Component, Path, PathBuf};
 pub const JOB_FILE: &str = "farm.toml";
 /// Most tasks a farm may have (Slurm's default MaxArraySize is 1001).
 pub const MAX_TASKS: u32 = 1000;
-
-/// The render flags a farm passes to every task.
-#[derive(Args, Clone, Debug, Default)]
-pub struct FarmRenderArgs {
-    /// local | direct | whitted | path | ao (default: the scene's).
-    #[arg(long, value_parser = |s: &str| s.parse::<IntegratorKind>())]
-    pub integrator: Option<IntegratorKind>,
-    /// Samples per pixel of the whole render, split among the tasks
-    /// (default: the scene's).
-    #[arg(long, value_parser = parse_positive, allow_negative_numbers = true)]
-    pub spp: Option<u32>,
-    /// Maximum path segments from the camera (default: the scene's).
-    #[arg(long, value_parser = parse_positive, allow_negative_numbers = true)]
-    pub max_depth: Option<u32>,
-    /// Image size WIDTHxHEIGHT (default: the scene's).
-    #[arg(long, value_parser = parse_resolution)]
-    pub resolution: Option<(u32, u32)>,
-    /// Random seed (default: the scene's).
-    #[arg(long)]
-    pub seed: Option<u32>,
-    /// Ambient-occlusion ray length in scene units (default: unlimited).
-    #[arg(long, value_parser = parse_length, allow_negative_numbers = true)]
-    pub ao_distance: Option<f64>,
-}
 
 /// Where a new farm goes: the scene, the split, the output.
 #[derive(Args, Clone, Debug)]
@@ -57,7 +32,7 @@ pub struct NewFarmArgs {
     #[arg(long)]
     pub dir: Option<PathBuf>,
     #[command(flatten)]
-    pub render: FarmRenderArgs,
+    pub render: SettingsArgs,
 }
 
 /// `farm.toml`.
@@ -91,20 +66,12 @@ impl FarmJob {
                 "--tasks {tasks} is more than the {spp} samples per pixel to split (or than {MAX_TASKS})"
             );
         }
-        let mut render_args = vec!["--spp".to_string(), spp.to_string()];
-        let mut flag = |name: &str, value: Option<String>| {
-            if let Some(v) = value {
-                render_args.extend([name.to_string(), v]);
-            }
-        };
-        flag("--integrator", r.integrator.map(|i| i.to_string()));
-        flag("--max-depth", r.max_depth.map(|d| d.to_string()));
-        flag(
-            "--resolution",
-            r.resolution.map(|(w, h)| format!("{w}x{h}")),
-        );
-        flag("--seed", r.seed.map(|s| s.to_string()));
-        flag("--ao-distance", r.ao_distance.map(|d| d.to_string()));
+        // The spp is written out, so the split does not depend on the scene's default.
+        let render_args = SettingsArgs {
+            spp: Some(spp),
+            ..r.clone()
+        }
+        .to_args();
         Ok(FarmJob {
             scene: args
                 .scene
