@@ -344,6 +344,8 @@ fn assorted_scene() -> Scene {
             width: 2,
             height: 2,
             texels: vec![Rgb::ONE, Rgb::splat(0.2), Rgb::splat(0.2), Rgb::ONE],
+            wrap: Default::default(),
+            uv_transform: glam::Affine2::IDENTITY,
         });
         m.albedo_texture = Some(0);
         s.add_material(m)

@@ -41,5 +41,6 @@ pub use crate::partial_film::{
     PartialFilm, merge_parts, parse_range, read_partial_film, write_partial_film,
 };
 pub use crate::tonemap::{
-    ToneMapping, ToneOperator, aces_filmic, srgb_eotf, srgb_oetf, tonemap_to_srgb8,
+    Exposure, ToneMapping, ToneOperator, aces_filmic, auto_exposure_ev, srgb_eotf, srgb_oetf,
+    tonemap_to_srgb8,
 };

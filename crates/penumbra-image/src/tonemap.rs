@@ -69,6 +69,90 @@ impl FromStr for ToneOperator {
     }
 }
 
+/// The exposure of a PNG: automatic (from the image) or fixed, in stops.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum Exposure {
+    /// [`auto_exposure_ev`] of the image.
+    #[default]
+    Auto,
+    /// This many stops.
+    Stops(f32),
+}
+
+impl Exposure {
+    /// The exposure in stops for `img`, metering the pixels `metered` marks
+    /// (all pixels without a mask; see [`auto_exposure_ev`]).
+    pub fn resolve(self, img: &Image, metered: Option<&[bool]>) -> f32 {
+        match self {
+            Exposure::Auto => auto_exposure_ev(img, metered),
+            Exposure::Stops(ev) => ev,
+        }
+    }
+}
+
+impl FromStr for Exposure {
+    type Err = String;
+
+    /// `"auto"` or a finite number of stops.
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        if s.trim().eq_ignore_ascii_case("auto") {
+            return Ok(Exposure::Auto);
+        }
+        match s.trim().parse::<f32>() {
+            Ok(ev) if ev.is_finite() => Ok(Exposure::Stops(ev)),
+            _ => Err(format!(
+                "'{s}' is not an exposure (auto, or a number of stops such as -1.5)"
+            )),
+        }
+    }
+}
+
+/// The key value of [`auto_exposure_ev`]: the log-average luminance is
+/// exposed to mid grey.
+pub const AUTO_EXPOSURE_KEY: f32 = 0.18;
+/// Most stops [`auto_exposure_ev`] applies either way.
+pub const AUTO_EXPOSURE_LIMIT: f32 = 20.0;
+
+/// The exposure that brings the image's log-average luminance to
+/// [`AUTO_EXPOSURE_KEY`] (Reinhard et al. 2002, "Photographic Tone
+/// Reproduction for Digital Images", eq. 1 and 2):
+/// `L̄ = exp( (1/N) Σ ln L )`, `EV = log₂(0.18 / L̄)`.
+///
+/// - `L` is the Rec. 709 luminance of each pixel.
+/// - Only the pixels `metered` marks count, when it marks any (the renderer
+///   marks the pixels whose camera rays hit a surface, so a model is exposed
+///   for itself, not for the environment behind it).
+/// - Black pixels (L ≤ 0, or not finite) are left out, so a model on a black
+///   background is exposed for the model.
+/// - The others are clamped to their own 1st and 99th percentiles (nearest
+///   rank), so a few emitters or a sun do not darken the image and a few
+///   dark cracks do not brighten it.
+/// - An image with no lit pixel gets EV 0; the result is limited to ±20 stops.
+pub fn auto_exposure_ev(img: &Image, metered: Option<&[bool]>) -> f32 {
+    let mask = metered.filter(|m| m.len() == img.pixels.len() && m.contains(&true));
+    let mut lum: Vec<f32> = img
+        .pixels
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| mask.is_none_or(|m| m[*i]))
+        .map(|(_, p)| penumbra_shading::color::luminance(*p))
+        .filter(|l| l.is_finite() && *l > 0.0)
+        .collect();
+    if lum.is_empty() {
+        return 0.0;
+    }
+    lum.sort_by(f32::total_cmp);
+    let rank = |q: f64| lum[((q * lum.len() as f64).ceil() as usize).clamp(1, lum.len()) - 1];
+    let (lo, hi) = (rank(0.01), rank(0.99));
+    let mean_log = lum
+        .iter()
+        .map(|l| f64::from(l.clamp(lo, hi)).ln())
+        .sum::<f64>()
+        / lum.len() as f64;
+    let ev = (f64::from(AUTO_EXPOSURE_KEY).ln() - mean_log) / std::f64::consts::LN_2;
+    (ev as f32).clamp(-AUTO_EXPOSURE_LIMIT, AUTO_EXPOSURE_LIMIT)
+}
+
 /// Exposure plus tone operator. Default: EV 0, [`ToneOperator::Filmic`].
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ToneMapping {
@@ -215,5 +299,38 @@ mod tests {
         assert_eq!("Filmic".parse::<ToneOperator>(), Ok(ToneOperator::Filmic));
         assert_eq!("clamp".parse::<ToneOperator>(), Ok(ToneOperator::Clamp));
         assert!("reinhard".parse::<ToneOperator>().is_err());
+    }
+
+    #[test]
+    fn auto_exposure_brings_the_log_average_to_mid_grey() {
+        // Constant luminance 0.045 (two stops below 0.18): +2 EV.
+        let grey = Image::filled(10, 10, Rgb::splat(0.045));
+        assert!((auto_exposure_ev(&grey, None) - 2.0).abs() < 1e-5);
+        // Half the pixels at 0.09, half at 0.36: geometric mean 0.18, EV 0;
+        // black pixels do not count, one bright outlier is clamped.
+        let mut img = Image::from_fn(20, 10, |x, _| Rgb::splat(if x < 10 { 0.09 } else { 0.36 }));
+        assert!(auto_exposure_ev(&img, None).abs() < 1e-5);
+        img.pixels.extend(vec![Rgb::ZERO; 200]);
+        img.height = 20;
+        assert!(auto_exposure_ev(&img, None).abs() < 1e-5);
+        img.pixels[0] = Rgb::splat(1e9);
+        let ev = auto_exposure_ev(&img, None);
+        assert!(ev.abs() < 0.02, "{ev}");
+        // Metering only the 0.36 half: −1 EV.
+        let mask: Vec<bool> = (0..400).map(|i| i < 200 && i % 20 >= 10).collect();
+        assert!((auto_exposure_ev(&img, Some(&mask)) + 1.0).abs() < 1e-5);
+        // A mask that marks nothing meters everything.
+        assert!(auto_exposure_ev(&img, Some(&[false; 400])).abs() < 0.02);
+        assert_eq!(auto_exposure_ev(&Image::new(4, 4), None), 0.0);
+        let dim = Image::filled(2, 2, Rgb::splat(1e-30));
+        assert_eq!(auto_exposure_ev(&dim, None), AUTO_EXPOSURE_LIMIT);
+    }
+
+    #[test]
+    fn exposure_parses_auto_and_stops() {
+        assert_eq!("auto".parse::<Exposure>(), Ok(Exposure::Auto));
+        assert_eq!("-1.5".parse::<Exposure>(), Ok(Exposure::Stops(-1.5)));
+        assert!("bright".parse::<Exposure>().is_err());
+        assert!("inf".parse::<Exposure>().is_err());
     }
 }

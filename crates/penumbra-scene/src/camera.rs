@@ -37,6 +37,35 @@ impl Camera {
         }
     }
 
+    /// The camera that frames a bounding box when a scene has none: it
+    /// looks at the box's centre from 30° right of +z and 25° above the
+    /// horizon (direction `(sin 30° cos 25°, sin 25°, cos 30° cos 25°)`, +y
+    /// up), so that boxes show three faces and models lying in the xz-plane
+    /// are seen from above. The vertical field of view is 40°, and the
+    /// distance puts the bounding sphere of radius r inside the narrower of
+    /// the two fields of view with a 5 % margin: `d = 1.05 r / sin(½ min(fov_y,
+    /// fov_x))`, with `tan(½ fov_x) = aspect · tan(½ fov_y)`.
+    pub fn framing(lo: Vec3, hi: Vec3, aspect: f32) -> Self {
+        let centre = 0.5 * (lo + hi);
+        let radius = (0.5 * (hi - lo).length()).max(1e-3);
+        let fov_y = 40f32.to_radians();
+        let half_x = ((0.5 * fov_y).tan() * aspect.max(1e-3)).atan();
+        let half = (0.5 * fov_y).min(half_x);
+        let distance = 1.05 * radius / half.sin();
+        let (azimuth, elevation) = (30f32.to_radians(), 25f32.to_radians());
+        let direction = Vec3::new(
+            azimuth.sin() * elevation.cos(),
+            elevation.sin(),
+            azimuth.cos() * elevation.cos(),
+        );
+        Camera::look_at(
+            centre + direction * distance,
+            centre,
+            Vec3::Y,
+            Projection::Perspective { fov_y },
+        )
+    }
+
     /// Camera position in world space.
     pub fn position(&self) -> Vec3 {
         self.camera_to_world.w_axis.truncate()

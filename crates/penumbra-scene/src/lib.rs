@@ -8,6 +8,7 @@
 
 pub mod builtin;
 pub mod camera;
+pub mod environment;
 pub mod error;
 pub mod fingerprint;
 pub mod load;
@@ -21,6 +22,7 @@ pub mod settings;
 pub mod texture;
 
 pub use camera::{Camera, Projection};
+pub use environment::{EnvironmentChoice, LightCount, apply_environment};
 pub use error::{Location, SceneError};
 pub use fingerprint::{Fnv1a, fingerprint};
 pub use load::{LoadOptions, load_scene};

@@ -1,10 +1,39 @@
-//! Textures in linear RGB, sampled bilinearly with repeat wrapping.
+//! Textures in linear RGB, sampled bilinearly with the glTF sampler's wrap
+//! modes per axis (REPEAT, CLAMP_TO_EDGE, MIRRORED_REPEAT).
 
-use glam::Vec2;
+use glam::{Affine2, Vec2};
 use penumbra_shading::Rgb;
 
 /// Index of a texture in [`crate::Scene::textures`].
 pub type TextureId = usize;
+
+/// What a lookup outside [0, 1] reads, per axis (OpenGL's and glTF's
+/// wrap modes, applied to texel indices).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Wrap {
+    /// Texel `i mod n`.
+    #[default]
+    Repeat,
+    /// Texel `clamp(i, 0, n − 1)`.
+    ClampToEdge,
+    /// Period 2n, the second half mirrored: `m = i mod 2n`, texel `m` if
+    /// `m < n`, else `2n − 1 − m`.
+    MirroredRepeat,
+}
+
+impl Wrap {
+    /// The texel index for index `i` of an axis of `n` texels.
+    pub fn index(self, i: i64, n: i64) -> usize {
+        (match self {
+            Wrap::Repeat => i.rem_euclid(n),
+            Wrap::ClampToEdge => i.clamp(0, n - 1),
+            Wrap::MirroredRepeat => {
+                let m = i.rem_euclid(2 * n);
+                if m < n { m } else { 2 * n - 1 - m }
+            }
+        }) as usize
+    }
+}
 
 /// A linear-RGB image (sRGB-encoded inputs are decoded on load).
 #[derive(Clone, Debug)]
@@ -14,11 +43,18 @@ pub struct Texture {
     pub height: u32,
     /// Row-major, row 0 at the top (v = 0 in glTF's convention).
     pub texels: Vec<Rgb>,
+    /// Wrap modes along u (glTF wrapS) and v (wrapT).
+    pub wrap: [Wrap; 2],
+    /// Applied to texture coordinates before the lookup (glTF
+    /// `KHR_texture_transform`: `uv' = T(offset) · R(rotation) · S(scale) · uv`).
+    pub uv_transform: Affine2,
 }
 
 impl Texture {
-    /// Bilinear lookup at `uv` with repeat wrapping (glTF default sampler).
+    /// Bilinear lookup at `uv` (after [`Texture::uv_transform`]), wrapped
+    /// per axis by [`Texture::wrap`].
     pub fn sample(&self, uv: Vec2) -> Rgb {
+        let uv = self.uv_transform.transform_point2(uv);
         let (w, h) = (self.width as i64, self.height as i64);
         if w == 0 || h == 0 {
             return Rgb::ONE;
@@ -28,8 +64,8 @@ impl Texture {
         let (x0, y0) = (x.floor(), y.floor());
         let (fx, fy) = (x - x0, y - y0);
         let at = |xi: i64, yi: i64| -> Rgb {
-            let xi = xi.rem_euclid(w) as usize;
-            let yi = yi.rem_euclid(h) as usize;
+            let xi = self.wrap[0].index(xi, w);
+            let yi = self.wrap[1].index(yi, h);
             self.texels[yi * self.width as usize + xi]
         };
         let (x0, y0) = (x0 as i64, y0 as i64);
@@ -50,9 +86,39 @@ mod tests {
             width: 2,
             height: 1,
             texels: vec![Rgb::ZERO, Rgb::ONE],
+            wrap: [Wrap::Repeat; 2],
+            uv_transform: Affine2::IDENTITY,
         };
         assert!((t.sample(Vec2::new(0.25, 0.5)) - Rgb::ZERO).length() < 1e-6);
         assert!((t.sample(Vec2::new(0.5, 0.5)) - Rgb::splat(0.5)).length() < 1e-6);
         assert!((t.sample(Vec2::new(1.25, 0.5)) - Rgb::ZERO).length() < 1e-6);
+    }
+
+    #[test]
+    fn wrap_modes_follow_opengl() {
+        // Texel indices of an axis of 3 texels from −4 to 6.
+        let along = |w: Wrap| (-4..=6).map(|i| w.index(i, 3)).collect::<Vec<_>>();
+        assert_eq!(along(Wrap::Repeat), [2, 0, 1, 2, 0, 1, 2, 0, 1, 2, 0]);
+        assert_eq!(along(Wrap::ClampToEdge), [0, 0, 0, 0, 0, 1, 2, 2, 2, 2, 2]);
+        assert_eq!(
+            along(Wrap::MirroredRepeat),
+            [2, 2, 1, 0, 0, 1, 2, 2, 1, 0, 0]
+        );
+        let t = Texture {
+            name: "t".into(),
+            width: 2,
+            height: 1,
+            texels: vec![Rgb::ZERO, Rgb::ONE],
+            wrap: [Wrap::ClampToEdge, Wrap::Repeat],
+            uv_transform: Affine2::IDENTITY,
+        };
+        // Past the right edge, clamped: the last texel, not the first.
+        assert!((t.sample(Vec2::new(1.25, 0.5)) - Rgb::ONE).length() < 1e-6);
+        let m = Texture {
+            wrap: [Wrap::MirroredRepeat, Wrap::Repeat],
+            ..t
+        };
+        assert!((m.sample(Vec2::new(1.25, 0.5)) - Rgb::ONE).length() < 1e-6);
+        assert!((m.sample(Vec2::new(1.75, 0.5)) - Rgb::ZERO).length() < 1e-6);
     }
 }

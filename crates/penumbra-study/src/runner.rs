@@ -13,7 +13,7 @@ use penumbra_raster::receivers::planar_receivers;
 use penumbra_raster::{BakedMaps, ForwardRenderer, GpuContext, RasterOptions, ShadowMode};
 use penumbra_scene::{IntegratorKind, RenderSettings, Scene};
 use penumbra_shading::light::Environment;
-use penumbra_trace::{RenderOptions, render, scene_camera};
+use penumbra_trace::{RenderOptions, render, scene_camera_for};
 use std::collections::HashMap;
 use std::path::Path;
 
@@ -233,7 +233,7 @@ impl<'a> Runner<'a> {
         };
         let (w, h) = (self.options.settings.width, self.options.settings.height);
         let wants_ao = ao != AoMethod::None || bakes.iter().any(|b| !b.kind.is_irradiance());
-        let camera = scene_camera(scene);
+        let camera = scene_camera_for(scene, w, h);
         let maps = BakedMaps::from_bakes(bakes).map_err(|e| e.to_string())?;
         let ctx = self.gpu()?;
         let renderer = ForwardRenderer::new(ctx, options).map_err(|e| e.to_string())?;

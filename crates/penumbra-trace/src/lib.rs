@@ -14,5 +14,5 @@ pub mod stats;
 
 pub use render::{
     Crop, MIN_SPP_FOR_TARGET, Progress, RenderOptions, RenderOutput, Resume, Stop, render,
-    scene_camera,
+    scene_camera, scene_camera_for,
 };

@@ -14,7 +14,7 @@ use crate::integrator::TraceContext;
 use crate::lights::LightSampler;
 use glam::Vec3;
 use penumbra_image::{Film, FilmTile, Image, noise_rel_mse};
-use penumbra_scene::{Camera, Projection, RenderSettings, Scene};
+use penumbra_scene::{Camera, RenderSettings, Scene};
 use penumbra_shading::sampling::Sampler;
 use rayon::prelude::*;
 use std::ops::Range;
@@ -124,29 +124,31 @@ pub struct RenderOutput {
     pub samples: Range<u32>,
     /// The radiance sums, to write as a partial film or merge.
     pub film: Film,
+    /// Per pixel of the window (row-major), whether most of the samples
+    /// this process took there hit a surface (not the background): what
+    /// automatic exposure meters.
+    pub surface: Vec<bool>,
     pub stop: Stop,
     pub build_seconds: f64,
     pub render_seconds: f64,
 }
 
-/// The camera of the scene, or one framing its bounds from +z.
+/// The camera of the scene, or one framing its bounds
+/// ([`Camera::framing`]) for the scene's own image size.
 pub fn scene_camera(scene: &Scene) -> Camera {
+    scene_camera_for(scene, scene.settings.width, scene.settings.height)
+}
+
+/// The camera of the scene, or one framing its bounds ([`Camera::framing`])
+/// for a `width` × `height` image.
+pub fn scene_camera_for(scene: &Scene, width: u32, height: u32) -> Camera {
     if let Some(c) = scene.camera {
         return c;
     }
     let (lo, hi) = scene
         .bounds()
         .unwrap_or((Vec3::splat(-1.0), Vec3::splat(1.0)));
-    let centre = 0.5 * (lo + hi);
-    let radius = (0.5 * (hi - lo).length()).max(1e-3);
-    let fov_y = 40f32.to_radians();
-    let distance = radius / (0.5 * fov_y).sin();
-    Camera::look_at(
-        centre + Vec3::Z * distance,
-        centre,
-        Vec3::Y,
-        Projection::Perspective { fov_y },
-    )
+    Camera::framing(lo, hi, width.max(1) as f32 / height.max(1) as f32)
 }
 
 struct TileRect {
@@ -187,8 +189,8 @@ pub fn render(scene: &Scene, settings: &RenderSettings, options: &RenderOptions)
         lights: &lights,
         settings,
     };
-    let camera = scene_camera(scene);
     let (w, h) = (settings.width, settings.height);
+    let camera = scene_camera_for(scene, w, h);
     let crop = options.crop.clone().unwrap_or(Crop { x: 0..w, y: 0..h });
     assert!(crop.x.end <= w && crop.y.end <= h, "crop outside the image");
     let samples = options.samples.clone().unwrap_or(0..settings.spp);
@@ -220,6 +222,7 @@ pub fn render(scene: &Scene, settings: &RenderSettings, options: &RenderOptions)
         Vec::new()
     };
     let pixels = u64::from(cw) * u64::from(ch);
+    let mut hits = vec![0u32; pixels as usize];
     let done = AtomicU64::new(pixels * u64::from(first - samples.start));
     let total = pixels * samples.len() as u64;
     let t1 = Instant::now();
@@ -230,7 +233,7 @@ pub fn render(scene: &Scene, settings: &RenderSettings, options: &RenderOptions)
     while next < samples.end {
         let s0 = next;
         let s1 = (s0 + pass_spp).min(samples.end);
-        let results: Vec<(FilmTile, Vec<FilmTile>)> = rects
+        let results: Vec<TileOutput> = rects
             .par_iter()
             .map(|r| {
                 let out = render_tile(&ctx, &camera, r, s0, s1, options.aovs);
@@ -245,10 +248,14 @@ pub fn render(scene: &Scene, settings: &RenderSettings, options: &RenderOptions)
                 out
             })
             .collect();
-        for (tile, aovs) in &results {
-            film.merge_tile(tile);
-            for (f, t) in aov_films.iter_mut().zip(aovs) {
+        for (r, out) in rects.iter().zip(&results) {
+            film.merge_tile(&out.film);
+            for (f, t) in aov_films.iter_mut().zip(&out.aovs) {
                 f.merge_tile(t);
+            }
+            for (i, &n) in out.hits.iter().enumerate() {
+                let (x, y) = (r.x0 + i as u32 % r.w, r.y0 + i as u32 / r.w);
+                hits[((y - crop.y.start) * cw + (x - crop.x.start)) as usize] += n;
             }
         }
         next = s1;
@@ -282,6 +289,7 @@ pub fn render(scene: &Scene, settings: &RenderSettings, options: &RenderOptions)
             .map(|(n, f)| (n.to_string(), f.mean()))
             .collect(),
         spp: next - samples.start,
+        surface: hits.iter().map(|&n| 2 * n > next - first).collect(),
         samples: samples.start..next,
         film,
         stop,
@@ -296,6 +304,14 @@ fn target_reached(film: &Film, spp: u32, target: f64) -> bool {
     spp >= MIN_SPP_FOR_TARGET && noise_rel_mse(&film.mean(), &film.variance()) <= target
 }
 
+/// What one tile's pass returns.
+struct TileOutput {
+    film: FilmTile,
+    aovs: Vec<FilmTile>,
+    /// Per pixel of the tile, the samples whose camera ray hit a surface.
+    hits: Vec<u32>,
+}
+
 fn render_tile(
     ctx: &TraceContext,
     camera: &Camera,
@@ -303,7 +319,7 @@ fn render_tile(
     s0: u32,
     s1: u32,
     aovs: bool,
-) -> (FilmTile, Vec<FilmTile>) {
+) -> TileOutput {
     let settings = ctx.settings;
     let mut tile = FilmTile::new(r.x0, r.y0, r.w, r.h);
     let mut aov_tiles: Vec<FilmTile> = if aovs {
@@ -313,6 +329,7 @@ fn render_tile(
     } else {
         Vec::new()
     };
+    let mut hits = vec![0u32; (r.w * r.h) as usize];
     for y in r.y0..r.y0 + r.h {
         for x in r.x0..r.x0 + r.w {
             for s in s0..s1 {
@@ -333,6 +350,9 @@ fn render_tile(
                     Vec3::ZERO
                 };
                 tile.add_sample(x, y, value);
+                if result.depth > 0.0 {
+                    hits[((y - r.y0) * r.w + (x - r.x0)) as usize] += 1;
+                }
                 if aovs {
                     aov_tiles[0].add_sample(x, y, result.albedo);
                     aov_tiles[1].add_sample(x, y, result.normal);
@@ -341,5 +361,9 @@ fn render_tile(
             }
         }
     }
-    (tile, aov_tiles)
+    TileOutput {
+        film: tile,
+        aovs: aov_tiles,
+        hits,
+    }
 }

@@ -193,6 +193,11 @@ fn print_scene(path: &std::path::Path) -> Result<()> {
     let radius = scene
         .bounds()
         .map_or(1.0, |(lo, hi)| 0.5 * (hi - lo).length());
+    if penumbra_scene::LightCount::of(&scene).is_dark() {
+        println!(
+            "lights:     none: no lights, no emitters, a black background; `render` lights it with the built-in studio environment (--environment none keeps it black)"
+        );
+    }
     println!(
         "lights:     {} abstract, {} analytic area{}",
         scene.lights.len(),

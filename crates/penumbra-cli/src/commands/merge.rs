@@ -4,7 +4,7 @@ use crate::commands::partial::read_parts;
 use crate::commands::render::ToneArg;
 use anyhow::{Context, Result};
 use clap::Args;
-use penumbra_image::{ToneMapping, merge_parts, write_image};
+use penumbra_image::{Exposure, ToneMapping, merge_parts, write_image};
 use std::path::PathBuf;
 
 #[derive(Args, Debug)]
@@ -16,9 +16,10 @@ pub struct MergeArgs {
     /// Output image: .exr (linear float RGB) or .png (tone-mapped sRGB).
     #[arg(short, long)]
     pub output: PathBuf,
-    /// Exposure in stops applied before tone mapping (PNG only).
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
-    pub exposure: f32,
+    /// Exposure before tone mapping (PNG only): auto or a number of stops,
+    /// as for `render`.
+    #[arg(long, default_value = "auto", allow_negative_numbers = true)]
+    pub exposure: Exposure,
     /// Tone-mapping operator for PNG output.
     #[arg(long, value_enum, default_value_t = ToneArg::Filmic)]
     pub tonemap: ToneArg,
@@ -28,11 +29,12 @@ pub fn run(args: MergeArgs) -> Result<()> {
     penumbra_image::check_output_path(&args.output)?;
     let parts = read_parts(&args.parts)?;
     let merged = merge_parts(&parts)?;
+    let image = merged.film.mean();
     let tm = ToneMapping {
-        exposure_ev: args.exposure,
+        exposure_ev: args.exposure.resolve(&image, None),
         operator: args.tonemap.operator(),
     };
-    write_image(&args.output, &merged.film.mean(), &[], &tm)
+    write_image(&args.output, &image, &[], &tm)
         .with_context(|| format!("writing {}", args.output.display()))?;
     let rejected = merged.film.rejected_samples();
     eprintln!(

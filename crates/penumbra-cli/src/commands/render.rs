@@ -8,13 +8,13 @@ use crate::options::{
 use anyhow::{Context, Result, bail};
 use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
-use penumbra_image::{ToneMapping, ToneOperator, check_output_path, write_image};
+use penumbra_image::{Exposure, ToneMapping, ToneOperator, check_output_path, write_image};
 use penumbra_raster::passes::ao::{AoMethod, AoQuality, AoSettings};
 use penumbra_raster::{
     DEFAULT_SHADOW_MAP_SIZE, MAX_ENVIRONMENT_TAPS, MAX_PCF, RasterOptions, ShadowMode,
 };
-use penumbra_scene::{IntegratorKind, RenderSettings, Scene};
-use penumbra_trace::{Progress, RenderOptions, Stop, render, scene_camera};
+use penumbra_scene::{EnvironmentChoice, IntegratorKind, RenderSettings, Scene, apply_environment};
+use penumbra_trace::{Progress, RenderOptions, Stop, render, scene_camera_for};
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::time::Duration;
@@ -37,9 +37,15 @@ pub struct RenderArgs {
     /// Also write albedo, normal and depth layers (EXR only).
     #[arg(long)]
     pub aovs: bool,
-    /// Exposure in stops applied before tone mapping (PNG only).
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
-    pub exposure: f32,
+    /// Exposure before tone mapping (PNG only): auto (the log-average
+    /// luminance of the lit pixels exposed to 0.18) or a number of stops.
+    #[arg(long, default_value = "auto", allow_negative_numbers = true)]
+    pub exposure: Exposure,
+    /// The environment: default (the scene's; the built-in studio
+    /// environment if nothing lights the scene), none (the scene's, even if
+    /// it is black), or an .hdr/.exr lat-long map that replaces it.
+    #[arg(long, default_value = "default", value_parser = parse_environment)]
+    pub environment: EnvironmentChoice,
     /// Tone-mapping operator for PNG output.
     #[arg(long, value_enum, default_value_t = ToneArg::Filmic)]
     pub tonemap: ToneArg,
@@ -224,7 +230,8 @@ pub fn run_argv(args: &[String]) -> Result<()> {
 pub fn run(args: RenderArgs) -> Result<()> {
     // Check the output before spending time on loading and rendering.
     check_output_path(&args.output)?;
-    let scene = scene_or_builtin(args.scene.as_deref())?;
+    let mut scene = scene_or_builtin(args.scene.as_deref())?;
+    light_the_environment(&mut scene, &args.environment)?;
     let mut settings = scene.settings.clone();
     args.settings.apply(&mut settings);
     // Film: count + exact sums + sums of squares ≈ 80 B; a checkpoint's
@@ -237,7 +244,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
     args.parts.check(&settings, &args.output, args.aovs)?;
 
     let tm = ToneMapping {
-        exposure_ev: args.exposure,
+        exposure_ev: 0.0,
         operator: args.tonemap.operator(),
     };
     if args.engine == Engine::Raster {
@@ -329,6 +336,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
     } else {
         let aovs: Vec<(&str, &penumbra_image::Image)> =
             out.aovs.iter().map(|(n, i)| (n.as_str(), i)).collect();
+        let tm = exposed(&tm, &args, &out.image, Some(&out.surface));
         write_image(&args.output, &out.image, &aovs, &tm)
             .with_context(|| format!("writing {}", args.output.display()))?;
     }
@@ -360,6 +368,46 @@ pub fn run(args: RenderArgs) -> Result<()> {
         args.output.display()
     );
     Ok(())
+}
+
+/// `tm` with `--exposure` resolved for `image`; says which exposure
+/// `auto` chose when the output is a PNG.
+fn exposed(
+    tm: &ToneMapping,
+    args: &RenderArgs,
+    image: &penumbra_image::Image,
+    metered: Option<&[bool]>,
+) -> ToneMapping {
+    let ev = args.exposure.resolve(image, metered);
+    let png = penumbra_image::ImageFormat::from_path(&args.output)
+        .is_some_and(|f| f == penumbra_image::ImageFormat::Png);
+    if png && args.exposure == Exposure::Auto {
+        eprintln!("penumbra: exposure auto: {ev:+.2} EV (--exposure EV fixes it)");
+    }
+    ToneMapping {
+        exposure_ev: ev,
+        ..*tm
+    }
+}
+
+/// Applies `--environment` and says what it did.
+pub fn light_the_environment(scene: &mut Scene, choice: &EnvironmentChoice) -> Result<()> {
+    if let Some(note) =
+        apply_environment(scene, choice).map_err(|e| anyhow::anyhow!("--environment: {e}"))?
+    {
+        eprintln!("penumbra: note: {note}");
+    }
+    Ok(())
+}
+
+/// Parses `--environment`: `default`, `none` or a file.
+pub fn parse_environment(s: &str) -> Result<EnvironmentChoice, String> {
+    match s.trim() {
+        "default" => Ok(EnvironmentChoice::Default),
+        "none" => Ok(EnvironmentChoice::None),
+        "" => Err("an empty --environment (default, none or FILE.hdr|.exr)".into()),
+        file => Ok(EnvironmentChoice::File(PathBuf::from(file))),
+    }
 }
 
 /// `--engine raster`: the scene's camera and film size, the same output
@@ -395,7 +443,7 @@ fn render_raster(
     if shadows != ShadowMode::Map && (args.shadow_map_size.is_some() || args.pcf.is_some()) {
         bail!("--shadow-map-size and --pcf need --shadows map");
     }
-    let camera = scene_camera(scene);
+    let camera = scene_camera_for(scene, settings.width, settings.height);
     let (out, adapter) = penumbra_raster::render_scene(
         scene,
         &camera,
@@ -418,8 +466,13 @@ fn render_raster(
     }
     let aovs: Vec<(&str, &penumbra_image::Image)> =
         out.aovs.iter().map(|(n, i)| (n.as_str(), i)).collect();
-    write_image(&args.output, &out.image, &aovs, tm)
-        .with_context(|| format!("writing {}", args.output.display()))?;
+    write_image(
+        &args.output,
+        &out.image,
+        &aovs,
+        &exposed(tm, args, &out.image, None),
+    )
+    .with_context(|| format!("writing {}", args.output.display()))?;
     let gpu: String = penumbra_raster::timing::by_kind(&out.passes)
         .iter()
         .map(|(kind, n, ms)| match n {

@@ -349,7 +349,8 @@ struct Loader<'a> {
     /// (glTF mesh, primitive) → scene mesh (`None`: skipped or empty).
     meshes: HashMap<(usize, usize), Option<MeshId>>,
     materials: HashMap<usize, MaterialId>,
-    textures: HashMap<usize, TextureId>,
+    /// Scene textures by glTF texture and UV transform (bits of its columns).
+    textures: HashMap<(usize, [u32; 6]), TextureId>,
     default_material: Option<MaterialId>,
     degenerate: usize,
     notes: Notes,

@@ -5,7 +5,7 @@ use super::job::{FarmJob, checkpoint_file, part_file};
 use crate::commands::partial::read_parts;
 use crate::commands::render;
 use anyhow::{Context, Result, bail};
-use penumbra_image::{ToneMapping, merge_parts, read_partial_film, write_image};
+use penumbra_image::{Exposure, ToneMapping, merge_parts, read_partial_film, write_image};
 use std::path::{Path, PathBuf};
 
 /// Environment variables that carry a task's index: Slurm job arrays and
@@ -114,7 +114,12 @@ pub fn run_merge(dir: &Path) -> Result<()> {
     let parts = read_parts(&files)?;
     let merged = merge_parts(&parts)?;
     let output = dir.join(&job.output);
-    write_image(&output, &merged.film.mean(), &[], &ToneMapping::default())
+    let image = merged.film.mean();
+    let tm = ToneMapping {
+        exposure_ev: Exposure::Auto.resolve(&image, None),
+        ..ToneMapping::default()
+    };
+    write_image(&output, &image, &[], &tm)
         .with_context(|| format!("writing {}", output.display()))?;
     eprintln!(
         "penumbra: merged {} parts: {}x{} at {} spp -> {}",

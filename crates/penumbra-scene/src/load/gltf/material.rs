@@ -15,6 +15,9 @@
 //! off (F0 = ((ior−1)/(ior+1))² · specularFactor · max specularColorFactor =
 //! 0, i.e. `specularFactor = 0` or `ior = 1`).
 //!
+//! Samplers' wrap modes (REPEAT, CLAMP_TO_EDGE, MIRRORED_REPEAT) are kept
+//! per texture; filters are not (lookups are bilinear, no mipmaps).
+//!
 //! Still ignored, with ONE warning per material listing it: alpha modes,
 //! `normalTexture`, `occlusionTexture`, `emissiveTexture`,
 //! `transmissionTexture`, `specularTexture`, `specularColorTexture`, other
@@ -28,10 +31,11 @@ use crate::error::{Location, SceneError};
 use crate::material::{Material, MaterialId};
 use crate::paths::resolve_uri;
 use crate::texture::Texture;
-use crate::texture::TextureId;
+use crate::texture::{TextureId, Wrap};
 use ::gltf::json::material::AlphaMode;
 use ::gltf::json::texture::WrappingMode;
 use ::gltf::json::validation::Checked;
+use glam::{Affine2, Vec2};
 use penumbra_shading::Rgb;
 use penumbra_shading::bsdf::{Bsdf, Lambert, MetallicRoughness};
 use std::borrow::Cow;
@@ -45,13 +49,56 @@ const READ_MATERIAL_EXTENSIONS: &[&str] = &[
     "KHR_materials_transmission",
 ];
 
-fn wrap_name(w: &Checked<WrappingMode>) -> &'static str {
-    match w {
-        Checked::Valid(WrappingMode::ClampToEdge) => "CLAMP_TO_EDGE",
-        Checked::Valid(WrappingMode::MirroredRepeat) => "MIRRORED_REPEAT",
-        Checked::Valid(WrappingMode::Repeat) => "REPEAT",
-        Checked::Invalid => "invalid",
+/// The `KHR_texture_transform` of a textureInfo (identity without one):
+/// `uv' = T(offset) · R(rotation) · S(scale) · uv`, with R the matrix of
+/// columns (cos r, −sin r) and (sin r, cos r): `u' = u cos r + v sin r`,
+/// `v' = −u sin r + v cos r`. (Read as column-major GLSL, the extension's
+/// own listing gives the transpose; Khronos' TextureTransformTest, whose red
+/// marker shows a rotation the wrong way, agrees with this one, as do the
+/// sample viewers.) Other extensions on the textureInfo, a `texCoord` override
+/// and malformed values are noted (and ignored).
+fn texture_transform(info: &::gltf::json::Value, what: &str, notes: &mut Vec<String>) -> Affine2 {
+    let Some(exts) = info["extensions"].as_object() else {
+        return Affine2::IDENTITY;
+    };
+    for key in exts.keys().filter(|k| *k != "KHR_texture_transform") {
+        notes.push(format!("{key} on {what} ignored"));
     }
+    let Some(t) = exts.get("KHR_texture_transform") else {
+        return Affine2::IDENTITY;
+    };
+    let pair = |key: &str, default: [f32; 2]| -> Option<Vec2> {
+        match &t[key] {
+            ::gltf::json::Value::Null => Some(Vec2::from(default)),
+            v => {
+                let a = v.as_array().filter(|a| a.len() == 2)?;
+                let x = a[0].as_f64()? as f32;
+                let y = a[1].as_f64()? as f32;
+                (x.is_finite() && y.is_finite()).then_some(Vec2::new(x, y))
+            }
+        }
+    };
+    let rotation = match &t["rotation"] {
+        ::gltf::json::Value::Null => Some(0.0),
+        v => v.as_f64().map(|r| r as f32).filter(|r| r.is_finite()),
+    };
+    let (Some(offset), Some(scale), Some(rotation)) = (
+        pair("offset", [0.0, 0.0]),
+        pair("scale", [1.0, 1.0]),
+        rotation,
+    ) else {
+        notes.push(format!("malformed KHR_texture_transform on {what} ignored"));
+        return Affine2::IDENTITY;
+    };
+    if t["texCoord"].as_u64().is_some_and(|c| c != 0) {
+        notes.push(format!(
+            "KHR_texture_transform on {what} asks for TEXCOORD_{} (TEXCOORD_0 used)",
+            t["texCoord"]
+        ));
+    }
+    let (sin, cos) = rotation.sin_cos();
+    let r = glam::Mat2::from_cols(Vec2::new(cos, -sin), Vec2::new(sin, cos));
+    Affine2::from_mat2_translation(r * glam::Mat2::from_diagonal(scale), offset)
 }
 
 impl Loader<'_> {
@@ -209,14 +256,9 @@ impl Loader<'_> {
                         info.tex_coord
                     ));
                 }
-                if let Some(obj) =
-                    raw["pbrMetallicRoughness"]["baseColorTexture"]["extensions"].as_object()
-                {
-                    for key in obj.keys() {
-                        notes.push(format!("{key} on baseColorTexture ignored"));
-                    }
-                }
-                Some(self.texture(info.index.value(), &mut notes)?)
+                let info_json = &raw["pbrMetallicRoughness"]["baseColorTexture"];
+                let transform = texture_transform(info_json, "baseColorTexture", &mut notes);
+                Some(self.texture(info.index.value(), transform, &mut notes)?)
             }
             None => None,
         };
@@ -231,7 +273,10 @@ impl Loader<'_> {
                         info.tex_coord
                     ));
                 }
-                Some(self.data_texture(info.index.value(), &mut notes)?)
+                let info_json = &raw["pbrMetallicRoughness"]["metallicRoughnessTexture"];
+                let transform =
+                    texture_transform(info_json, "metallicRoughnessTexture", &mut notes);
+                Some(self.data_texture(info.index.value(), transform, &mut notes)?)
             }
             _ => None,
         };
@@ -272,25 +317,40 @@ impl Loader<'_> {
     /// The scene texture for glTF `textures[t]` as colour (sRGB-decoded),
     /// decoded on first use. Sampler settings that cannot be honoured are
     /// added to `notes`.
-    fn texture(&mut self, t: usize, notes: &mut Vec<String>) -> Result<TextureId, SceneError> {
-        if let Some(&id) = self.textures.get(&t) {
-            self.sampler_notes(t, notes)?;
+    fn texture(
+        &mut self,
+        t: usize,
+        transform: Affine2,
+        notes: &mut Vec<String>,
+    ) -> Result<TextureId, SceneError> {
+        let key = (t, transform.to_cols_array().map(f32::to_bits));
+        if let Some(&id) = self.textures.get(&key) {
+            self.sampler_wrap(t, notes)?;
             return Ok(id);
         }
-        let (bytes, name, ipath) = self.image_bytes(t, notes)?;
-        let texture = decode_texture(&bytes, name).map_err(|e| {
+        let wrap = self.sampler_wrap(t, notes)?;
+        let (bytes, name, ipath) = self.image_bytes(t)?;
+        let mut texture = decode_texture(&bytes, name).map_err(|e| {
             SceneError::at_path(self.file, ipath, format!("cannot decode image: {e}"))
         })?;
+        texture.wrap = wrap;
+        texture.uv_transform = transform;
         self.scene.textures.push(texture);
         let id = self.scene.textures.len() - 1;
-        self.textures.insert(t, id);
+        self.textures.insert(key, id);
         Ok(id)
     }
 
     /// The scene texture for glTF `textures[t]` as linear data (no transfer
     /// function: metallicRoughnessTexture). Not shared with colour uses.
-    fn data_texture(&mut self, t: usize, notes: &mut Vec<String>) -> Result<TextureId, SceneError> {
-        let (bytes, name, ipath) = self.image_bytes(t, notes)?;
+    fn data_texture(
+        &mut self,
+        t: usize,
+        transform: Affine2,
+        notes: &mut Vec<String>,
+    ) -> Result<TextureId, SceneError> {
+        let wrap = self.sampler_wrap(t, notes)?;
+        let (bytes, name, ipath) = self.image_bytes(t)?;
         let img = image::load_from_memory(&bytes).map_err(|e| {
             SceneError::at_path(self.file, ipath, format!("cannot decode image: {e}"))
         })?;
@@ -300,13 +360,16 @@ impl Loader<'_> {
             width: rgb.width(),
             height: rgb.height(),
             texels: rgb.pixels().map(|p| Rgb::new(p[0], p[1], p[2])).collect(),
+            wrap,
+            uv_transform: transform,
         };
         self.scene.textures.push(texture);
         Ok(self.scene.textures.len() - 1)
     }
 
-    /// Notes for sampler settings of `textures[t]` that cannot be honoured.
-    fn sampler_notes(&self, t: usize, notes: &mut Vec<String>) -> Result<(), SceneError> {
+    /// The wrap modes of `textures[t]`'s sampler (REPEAT without one); an
+    /// invalid mode is noted and read as REPEAT.
+    fn sampler_wrap(&self, t: usize, notes: &mut Vec<String>) -> Result<[Wrap; 2], SceneError> {
         let tpath = format!("textures[{t}]");
         let tex = self.root.textures.get(t).ok_or_else(|| {
             SceneError::at_path(
@@ -315,27 +378,29 @@ impl Loader<'_> {
                 format!("texture {t} does not exist"),
             )
         })?;
+        let mut wrap = [Wrap::Repeat; 2];
         if let Some(s) = tex.sampler.and_then(|s| self.root.samplers.get(s.value())) {
-            for (axis, w) in [("wrapS", &s.wrap_s), ("wrapT", &s.wrap_t)] {
-                if *w != Checked::Valid(WrappingMode::Repeat) {
-                    notes.push(format!(
-                        "{tpath} sampler {axis} {} treated as REPEAT",
-                        wrap_name(w)
-                    ));
-                }
+            for (slot, (axis, w)) in [("wrapS", &s.wrap_s), ("wrapT", &s.wrap_t)]
+                .into_iter()
+                .enumerate()
+            {
+                wrap[slot] = match w {
+                    Checked::Valid(WrappingMode::Repeat) => Wrap::Repeat,
+                    Checked::Valid(WrappingMode::ClampToEdge) => Wrap::ClampToEdge,
+                    Checked::Valid(WrappingMode::MirroredRepeat) => Wrap::MirroredRepeat,
+                    Checked::Invalid => {
+                        notes.push(format!("{tpath} sampler {axis} is invalid, read as REPEAT"));
+                        Wrap::Repeat
+                    }
+                };
             }
         }
-        Ok(())
+        Ok(wrap)
     }
 
     /// The encoded bytes of `textures[t]`'s image, a name for it, and its
-    /// key path; sampler notes are added to `notes`.
-    fn image_bytes(
-        &self,
-        t: usize,
-        notes: &mut Vec<String>,
-    ) -> Result<(Vec<u8>, String, String), SceneError> {
-        self.sampler_notes(t, notes)?;
+    /// key path.
+    fn image_bytes(&self, t: usize) -> Result<(Vec<u8>, String, String), SceneError> {
         let tpath = format!("textures[{t}]");
         let tex = &self.root.textures[t];
         let src = tex.source.value();
@@ -380,5 +445,41 @@ impl Loader<'_> {
         };
         let name = img.name.clone().unwrap_or(label);
         Ok((bytes.into_owned(), name, ipath))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn texture_transform_is_offset_after_rotation_after_scale() {
+        let json: ::gltf::json::Value = ::gltf::json::deserialize::from_str(
+            r#"{"index": 0, "extensions": {"KHR_texture_transform":
+                {"offset": [0.5, 0.25], "rotation": 1.5707963, "scale": [2, 3]}}}"#,
+        )
+        .unwrap();
+        let mut notes = Vec::new();
+        let t = texture_transform(&json, "baseColorTexture", &mut notes);
+        assert!(notes.is_empty(), "{notes:?}");
+        // (u, v) = (1, 0): scaled (2, 0); rotated by 90° with
+        // u' = u cos r + v sin r, v' = −u sin r + v cos r: (0, −2); offset: (0.5, −1.75).
+        let p = t.transform_point2(Vec2::new(1.0, 0.0));
+        assert!((p - Vec2::new(0.5, -1.75)).length() < 1e-5, "{p}");
+        // (0, 1): scaled (0, 3); rotated (3, 0); offset (3.5, 0.25).
+        let q = t.transform_point2(Vec2::new(0.0, 1.0));
+        assert!((q - Vec2::new(3.5, 0.25)).length() < 1e-5, "{q}");
+        let plain: ::gltf::json::Value =
+            ::gltf::json::deserialize::from_str(r#"{"index": 0}"#).unwrap();
+        assert_eq!(
+            texture_transform(&plain, "x", &mut notes),
+            Affine2::IDENTITY
+        );
+        let bad: ::gltf::json::Value = ::gltf::json::deserialize::from_str(
+            r#"{"extensions": {"KHR_texture_transform": {"scale": [1]}, "EXT_other": {}}}"#,
+        )
+        .unwrap();
+        assert_eq!(texture_transform(&bad, "x", &mut notes), Affine2::IDENTITY);
+        assert_eq!(notes.len(), 2, "{notes:?}");
     }
 }

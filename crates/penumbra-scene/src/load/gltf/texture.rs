@@ -49,6 +49,8 @@ fn texture_from_image(img: &DynamicImage, name: String) -> Result<Texture, Strin
         width,
         height,
         texels,
+        wrap: Default::default(),
+        uv_transform: glam::Affine2::IDENTITY,
     })
 }
 

@@ -11,12 +11,12 @@ use super::diag::Doc;
 use super::lights::{ENVIRONMENT_UNITS, pick_quantity};
 use super::raw::RawEnvironment;
 use super::values::ColorRange;
+use crate::environment::environment_from_image;
 use crate::error::{Location, SceneError};
 use crate::load::LoadOptions;
 use crate::paths::resolve_uri;
 use crate::scene::Scene;
 use penumbra_shading::Rgb;
-use penumbra_shading::light::EnvironmentMap;
 use std::sync::Arc;
 
 const KINDS: &str = "constant, map";
@@ -70,31 +70,19 @@ pub(super) fn environment(
                 Location::Path(fp.into()),
             )
             .map_err(|e| doc.reanchor(fp, e))?;
-            let image = image::open(&resolved).map_err(|e| {
-                doc.err(
-                    fp,
-                    format!(
-                        "cannot read environment map '{uri}' ({}): {e}",
-                        resolved.display()
-                    ),
-                )
-            })?;
-            let rgb = image.into_rgb32f();
-            let (w, h) = (rgb.width() as usize, rgb.height() as usize);
-            if w == 0 || h == 0 {
-                return Err(doc.err(fp, format!("environment map '{uri}' is empty")));
-            }
-            let texels = rgb
-                .pixels()
-                .map(|p| Rgb::new(p.0[0], p.0[1], p.0[2]))
-                .collect();
-            scene.environment_map = Some(Arc::new(EnvironmentMap::new(
-                w,
-                h,
-                texels,
-                scale,
-                rotate.to_radians(),
-            )));
+            let map = image::open(&resolved)
+                .map_err(|e| e.to_string())
+                .and_then(|image| environment_from_image(image, scale, rotate.to_radians()))
+                .map_err(|e| {
+                    doc.err(
+                        fp,
+                        format!(
+                            "cannot read environment map '{uri}' ({}): {e}",
+                            resolved.display()
+                        ),
+                    )
+                })?;
+            scene.environment_map = Some(Arc::new(map));
             Ok(())
         }
         other => Err(doc.err(

@@ -1,0 +1,178 @@
+//! Khronos glTF sample models (../shared/gltf-samples) rendered as a new
+//! user would: a file without lights is lit by the default environment, a
+//! file without a camera is framed from an oblique direction that keeps the
+//! whole model in view at any aspect ratio, and PNGs are exposed
+//! automatically.
+
+mod common;
+
+use common::{penumbra, stderr};
+use penumbra_image::{Image, read_exr_layers};
+use std::path::{Path, PathBuf};
+
+fn sample(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../../shared/gltf-samples")
+        .join(name)
+        .join("glTF")
+        .join(format!("{name}.gltf"))
+}
+
+/// Renders `model` to `out` (EXR with AOVs) and returns (beauty, normal, depth).
+fn render(dir: &Path, model: &str, extra: &[&str], out: &str) -> (Image, Image, Image, String) {
+    let path = sample(model);
+    let mut args = vec!["render", path.to_str().unwrap(), "--spp", "4", "--aovs"];
+    args.extend(extra);
+    args.extend(["-o", out]);
+    let o = penumbra(&args, dir);
+    assert!(o.status.success(), "{model}: {}", stderr(&o));
+    let mut layers = read_exr_layers(&dir.join(out)).unwrap();
+    let mut take = |name: &str| {
+        let i = layers.aovs.iter().position(|(n, _)| n == name).unwrap();
+        layers.aovs.remove(i).1
+    };
+    let (normal, depth) = (take("normal"), take("depth"));
+    (layers.rgb, normal, depth, stderr(&o))
+}
+
+/// Fraction of pixels whose camera rays hit the model.
+fn coverage(depth: &Image) -> f64 {
+    depth.pixels.iter().filter(|d| d.x > 0.0).count() as f64 / depth.pixels.len() as f64
+}
+
+#[test]
+fn a_file_without_lights_is_lit_by_the_default_environment() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let (lit, _, depth, said) = render(dir, "Duck", &["--resolution", "64x48"], "duck.exr");
+    assert!(
+        said.contains("lit by the built-in studio environment"),
+        "{said}"
+    );
+    let model: Vec<f32> = lit
+        .pixels
+        .iter()
+        .zip(&depth.pixels)
+        .filter(|(_, d)| d.x > 0.0)
+        .map(|(p, _)| p.x + p.y + p.z)
+        .collect();
+    assert!(model.len() > 50, "the duck covers {} pixels", model.len());
+    let mean = model.iter().sum::<f32>() / model.len() as f32;
+    // A yellow Lambertian model under an environment of mean radiance 1.
+    assert!((0.2..3.0).contains(&mean), "mean R+G+B on the duck {mean}");
+
+    let (dark, _, _, said) = render(
+        dir,
+        "Duck",
+        &["--resolution", "64x48", "--environment", "none"],
+        "dark.exr",
+    );
+    assert!(!said.contains("studio"), "{said}");
+    assert!(dark.pixels.iter().all(|p| *p == glam::Vec3::ZERO));
+    let info = penumbra(&["info", sample("Duck").to_str().unwrap()], dir);
+    let text = String::from_utf8_lossy(&info.stdout).into_owned();
+    assert!(text.contains("lights:     none"), "{text}");
+    let o = penumbra(
+        &["render", "--environment", "missing.hdr", "-o", "x.png"],
+        dir,
+    );
+    assert!(
+        stderr(&o).contains("--environment: missing.hdr"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+#[test]
+fn the_default_camera_sees_three_faces_of_a_box_and_a_plane_lying_flat() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    // Box: the unit cube. Faces seen are told apart by their normals.
+    let (_, normal, depth, _) = render(dir, "Box", &["--resolution", "64x64"], "box.exr");
+    let n = normal.pixels.len() as f64;
+    for axis in 0..3 {
+        let share = normal.pixels.iter().filter(|v| v[axis].abs() > 0.9).count() as f64 / n;
+        assert!(share > 0.04, "faces facing axis {axis} cover {share}");
+    }
+    // The whole box is in view at both aspect ratios: no border pixel hits it.
+    for (size, name) in [
+        ("64x64", "square.exr"),
+        ("32x96", "tall.exr"),
+        ("96x32", "wide.exr"),
+    ] {
+        let (_, _, depth, _) = render(dir, "Box", &["--resolution", size], name);
+        let (w, h) = (depth.width, depth.height);
+        let border = (0..w)
+            .flat_map(|x| [(x, 0), (x, h - 1)])
+            .chain((0..h).flat_map(|y| [(0, y), (w - 1, y)]));
+        let hits = border.filter(|&(x, y)| depth.get(x, y).x > 0.0).count();
+        assert_eq!(hits, 0, "{size}: the box touches the border");
+        assert!(
+            coverage(&depth) > 0.05,
+            "{size}: the box covers {}",
+            coverage(&depth)
+        );
+    }
+    assert!(coverage(&depth) > 0.15, "{}", coverage(&depth));
+    // TwoSidedPlane lies in the xz-plane: seen from above, it fills a good part of the view.
+    let (_, _, depth, _) = render(
+        dir,
+        "TwoSidedPlane",
+        &["--resolution", "64x48"],
+        "plane.exr",
+    );
+    assert!(
+        coverage(&depth) > 0.1,
+        "the plane covers {}",
+        coverage(&depth)
+    );
+}
+
+#[test]
+fn pngs_are_exposed_for_the_model() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let box_path = sample("Box");
+    let scene = box_path.to_str().unwrap();
+    let o = penumbra(
+        &[
+            "render",
+            scene,
+            "--resolution",
+            "48x48",
+            "--spp",
+            "4",
+            "-o",
+            "auto.png",
+        ],
+        dir,
+    );
+    let said = stderr(&o);
+    let ev: f32 = said
+        .split("exposure auto: ")
+        .nth(1)
+        .and_then(|s| s.split(' ').next())
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| panic!("no exposure in {said}"));
+    // The box (albedo 0.8, 0, 0) under mean radiance 1: a log-average near
+    // 0.18·2^−EV. Metering the background too would push EV up by stops.
+    assert!((-2.0..1.5).contains(&ev), "{ev}");
+    let o = penumbra(
+        &[
+            "render",
+            scene,
+            "--resolution",
+            "48x48",
+            "--spp",
+            "4",
+            "--exposure",
+            "0",
+            "-o",
+            "fixed.png",
+        ],
+        dir,
+    );
+    assert!(o.status.success() && !stderr(&o).contains("exposure auto"));
+    let o = penumbra(&["render", "--exposure", "bright", "-o", "x.png"], dir);
+    assert!(stderr(&o).contains("is not an exposure"), "{}", stderr(&o));
+}
