@@ -109,6 +109,8 @@ pub enum EnvironmentChoice {
     Default,
     /// The scene's own, even if nothing lights it.
     None,
+    /// The built-in studio environment replaces the scene's.
+    Studio,
     /// This map replaces the scene's environment.
     File(std::path::PathBuf),
 }
@@ -121,8 +123,25 @@ pub fn apply_environment(
 ) -> Result<Option<String>, String> {
     match choice {
         EnvironmentChoice::None => Ok(None),
+        EnvironmentChoice::Studio => {
+            scene.environment_map = Some(Arc::new(studio_environment()));
+            Ok(Some(
+                "the environment is the built-in studio (from --environment studio)".into(),
+            ))
+        }
         EnvironmentChoice::Default => {
-            if !LightCount::of(scene).is_dark() {
+            let count = LightCount::of(scene);
+            if count.lights == 0
+                && count.area_lights == 0
+                && !count.environment
+                && count.emitters > 0
+            {
+                return Ok(Some(format!(
+                    "the scene is lit only by its {} emissive instance(s); --environment studio adds the built-in studio light",
+                    count.emitters
+                )));
+            }
+            if !count.is_dark() {
                 return Ok(None);
             }
             scene.environment_map = Some(Arc::new(studio_environment()));

@@ -20,8 +20,11 @@ pub struct Material {
     /// [`Bsdf::MetallicRoughness`] (UV set 0).
     pub metallic_roughness_texture: Option<TextureId>,
     /// Emitted radiance Le [W/(sr·m²)] from the front side (and the back if
-    /// `double_sided`).
+    /// `double_sided`), times `emission_texture` where there is one.
     pub emission: Rgb,
+    /// Texture multiplying `emission` (glTF `emissiveTexture`, sRGB-decoded,
+    /// UV set 0).
+    pub emission_texture: Option<TextureId>,
     /// Two-sided shading, and emission from both sides.
     pub double_sided: bool,
 }
@@ -35,6 +38,7 @@ impl Material {
             albedo_texture: None,
             metallic_roughness_texture: None,
             emission: Rgb::ZERO,
+            emission_texture: None,
             double_sided: true,
         }
     }

@@ -20,6 +20,8 @@ enum Entry {
     Triangle {
         triangle: u32,
         radiance: Rgb,
+        /// The material's emission texture, multiplying `radiance`.
+        texture: Option<usize>,
         double_sided: bool,
         /// Area and unit front normal, computed once.
         area: f32,
@@ -108,8 +110,11 @@ impl LightSampler {
                 continue;
             }
             let area = geometry.area(t);
-            let w = luminance(m.emitted_power(area));
-            if w <= 0.0 {
+            let mut w = luminance(m.emitted_power(area));
+            if let Some(tex) = m.emission_texture {
+                w *= luminance(mean_texture_over_triangle(scene, geometry, t, tex));
+            }
+            if w <= 0.0 || !w.is_finite() {
                 continue;
             }
             entry_of_triangle[t as usize] = entries.len() as u32;
@@ -118,6 +123,7 @@ impl LightSampler {
             entries.push(Entry::Triangle {
                 triangle: t,
                 radiance: m.emission,
+                texture: m.emission_texture,
                 double_sided: m.double_sided,
                 area,
                 normal,
@@ -253,12 +259,23 @@ impl LightSampler {
             Entry::Triangle {
                 triangle,
                 radiance,
+                texture,
                 double_sided,
                 area,
                 normal: n,
             } => {
                 let [a, b, c] = geometry.triangles[triangle as usize];
                 let bary = square_to_triangle(u);
+                // The emission texture at the sampled point: the triangle
+                // is picked by its mean, the point uniformly by area, and
+                // the estimate divides by that density, so it stays unbiased.
+                let radiance = match texture {
+                    Some(tex) => {
+                        let hit = geometry.surface_point(scene, triangle, bary.x, bary.y);
+                        radiance * scene.textures[tex].sample(hit.uv)
+                    }
+                    None => radiance,
+                };
                 let q = a * (1.0 - bary.x - bary.y) + b * bary.x + c * bary.y;
                 let d = q - p;
                 let dist2 = d.length_squared();
@@ -327,6 +344,33 @@ impl LightSampler {
             None => 0.0,
         }
     }
+}
+
+/// Stratified points per axis for [`mean_texture_over_triangle`].
+const TEXTURE_MEAN_GRID: u32 = 4;
+
+/// The mean of emission texture `tex` over `triangle`, from a 4×4 grid of
+/// points spread uniformly over it (`square_to_triangle` of the cell
+/// centres): the weight with which the triangle is picked as a light. A
+/// triangle whose texture is black there is never picked; rays that hit it
+/// still see its emission.
+fn mean_texture_over_triangle(
+    scene: &Scene,
+    geometry: &SceneGeometry,
+    triangle: u32,
+    tex: usize,
+) -> Rgb {
+    let n = TEXTURE_MEAN_GRID;
+    let mut sum = Rgb::ZERO;
+    for i in 0..n {
+        for j in 0..n {
+            let u = [(i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / n as f32];
+            let b = square_to_triangle(u);
+            let hit = geometry.surface_point(scene, triangle, b.x, b.y);
+            sum += scene.textures[tex].sample(hit.uv);
+        }
+    }
+    sum / (n * n) as f32
 }
 
 /// Radiance emitted by material emission `le` towards direction `wo` from a

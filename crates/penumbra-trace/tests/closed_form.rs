@@ -46,6 +46,62 @@ fn furnace_gives_le_over_one_minus_rho() {
     }
 }
 
+/// Furnace with a textured emitter: inside a sphere every surface element
+/// sees every other with the same form-factor density, so the mean outgoing
+/// radiance M obeys M = mean(Le) + ρM whatever the pattern of Le. The
+/// sphere mesh has no UVs, so each triangle's UV is its barycentrics (u = b₁,
+/// density 2(1 − u) under uniform area sampling). A 2×1 texture [0, 2] with
+/// CLAMP_TO_EDGE, sampled bilinearly, is f(u) = 0 below ¼, 4u − 1 up to ¾,
+/// and 2 above: its mean over a triangle is ∫ f(u) 2(1 − u) du = 13/24.
+/// Light sampling picks triangles by their mean texture and evaluates the
+/// texture at the sampled point; hits evaluate it at the hit.
+#[test]
+fn furnace_with_an_emission_texture() {
+    let (rho, le) = (0.5f32, 0.7f32);
+    let mut scene = Scene::default();
+    scene.textures.push(penumbra_scene::Texture {
+        name: "ramp".into(),
+        width: 2,
+        height: 1,
+        texels: vec![Rgb::ZERO, Rgb::splat(2.0)],
+        wrap: [penumbra_scene::texture::Wrap::ClampToEdge; 2],
+        uv_transform: glam::Affine2::IDENTITY,
+    });
+    let m = scene.add_material(Material {
+        emission: Rgb::splat(le),
+        emission_texture: Some(0),
+        double_sided: true,
+        ..Material::lambert("furnace", Rgb::splat(rho))
+    });
+    let mut sphere = penumbra_trace::bench::bench_mesh(20_000);
+    sphere.material = m;
+    scene.add_mesh(sphere, Mat4::from_scale(Vec3::splat(3.0)));
+    scene.camera = Some(Camera::look_at(
+        Vec3::ZERO,
+        Vec3::X,
+        Vec3::Y,
+        Projection::Perspective { fov_y: 1.5 },
+    ));
+    let expected = le * 13.0 / 24.0 / (1.0 - rho);
+    for integrator in [IntegratorKind::Path, IntegratorKind::Direct] {
+        let out = render(
+            &scene,
+            &settings(integrator, 32, 32, 64, 1000),
+            &RenderOptions::default(),
+        );
+        let mean = out.image.mean().x;
+        // Direct light: the emission seen plus one bounce, Le(1 + ρ).
+        let want = match integrator {
+            IntegratorKind::Direct => le * 13.0 / 24.0 * (1.0 + rho),
+            _ => expected,
+        };
+        assert!(
+            (mean / want - 1.0).abs() < 0.01,
+            "{integrator}: {mean} vs {want}"
+        );
+    }
+}
+
 /// Point light of intensity I at height d over a Lambertian plane of albedo
 /// ρ: L = ρ/π · I cos θ / r², with cos θ = d / r. Checked pixel by pixel
 /// against the analytic value averaged over each pixel's footprint.

@@ -43,7 +43,8 @@ pub struct RenderArgs {
     pub exposure: Exposure,
     /// The environment: default (the scene's; the built-in studio
     /// environment if nothing lights the scene), none (the scene's, even if
-    /// it is black), or an .hdr/.exr lat-long map that replaces it.
+    /// it is black), studio (the built-in studio replaces it), or an
+    /// .hdr/.exr lat-long map that replaces it.
     #[arg(long, default_value = "default", value_parser = parse_environment)]
     pub environment: EnvironmentChoice,
     /// Tone-mapping operator for PNG output.
@@ -405,6 +406,7 @@ pub fn parse_environment(s: &str) -> Result<EnvironmentChoice, String> {
     match s.trim() {
         "default" => Ok(EnvironmentChoice::Default),
         "none" => Ok(EnvironmentChoice::None),
+        "studio" => Ok(EnvironmentChoice::Studio),
         "" => Err("an empty --environment (default, none or FILE.hdr|.exr)".into()),
         file => Ok(EnvironmentChoice::File(PathBuf::from(file))),
     }

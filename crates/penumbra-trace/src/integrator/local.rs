@@ -6,7 +6,6 @@
 //! visibility.
 
 use super::{PathSample, TraceContext};
-use crate::lights::emitted;
 use crate::ray::Ray;
 use penumbra_shading::sampling::Sampler;
 
@@ -23,8 +22,7 @@ pub fn li(ctx: &TraceContext, ray: &Ray, sampler: &mut Sampler) -> PathSample {
         out.radiance = ctx.geometry.area_lights[l as usize].emitted(hit.ng, wo);
         return out;
     }
-    let material = &ctx.scene.materials[hit.material];
-    let mut radiance = emitted(material.emission, material.double_sided, hit.ng, wo);
+    let mut radiance = ctx.emitted(&hit, wo);
     let shading = ctx.shading(&hit, wo);
     let mut out = ctx.first_hit_aovs(shading.as_ref(), &hit);
     if let Some(s) = shading {

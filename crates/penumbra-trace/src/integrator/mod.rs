@@ -176,6 +176,21 @@ impl TraceContext<'_> {
         sum
     }
 
+    /// Radiance a mesh surface emits at `hit` towards `wo`: the material's
+    /// emission times its emission texture at the hit's UV (front side
+    /// only unless double-sided).
+    pub(crate) fn emitted(&self, hit: &SurfaceHit, wo: Vec3) -> Rgb {
+        let material = &self.scene.materials[hit.material];
+        if !material.is_emissive() {
+            return Rgb::ZERO;
+        }
+        let le = match material.emission_texture {
+            Some(t) => material.emission * self.scene.textures[t].sample(hit.uv),
+            None => material.emission,
+        };
+        crate::lights::emitted(le, material.double_sided, hit.ng, wo)
+    }
+
     /// AOVs of a first hit.
     pub(crate) fn first_hit_aovs(&self, s: Option<&Shading>, hit: &SurfaceHit) -> PathSample {
         PathSample {

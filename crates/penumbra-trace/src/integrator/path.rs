@@ -13,7 +13,7 @@
 //! out direct light, or split it per light.
 
 use super::{PathSample, Shading, TraceContext};
-use crate::lights::{Emitter, emitted};
+use crate::lights::Emitter;
 use crate::ray::Ray;
 use glam::Vec3;
 use penumbra_shading::Rgb;
@@ -116,9 +116,8 @@ pub(crate) fn walk<S: RadianceSink>(
             }
             return;
         }
-        let material = &ctx.scene.materials[hit.material];
         // Emission reached by this segment, MIS-weighted against NEE.
-        let le = emitted(material.emission, material.double_sided, hit.ng, wo);
+        let le = ctx.emitted(&hit, wo);
         if le != Rgb::ZERO {
             let weight = st.prev_bsdf_pdf.map_or(1.0, |bsdf_pdf| {
                 let light_pdf = ctx

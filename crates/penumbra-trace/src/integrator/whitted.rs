@@ -14,7 +14,6 @@
 //! one more), so both integrators agree on purely specular scenes.
 
 use super::{PathSample, TraceContext};
-use crate::lights::emitted;
 use crate::ray::Ray;
 use penumbra_shading::Rgb;
 use penumbra_shading::sampling::Sampler;
@@ -63,8 +62,7 @@ fn trace(
         }
         return ctx.geometry.area_lights[l as usize].emitted(hit.ng, wo);
     }
-    let material = &ctx.scene.materials[hit.material];
-    let mut radiance = emitted(material.emission, material.double_sided, hit.ng, wo);
+    let mut radiance = ctx.emitted(&hit, wo);
     let shading = ctx.shading(&hit, wo);
     if let Some(f) = first.take() {
         *f.out = ctx.first_hit_aovs(shading.as_ref(), &hit);

@@ -7,7 +7,7 @@
 //! `KHR_materials_ior` (`ior`, default 1.5), `KHR_materials_transmission`
 //! (`transmissionFactor`), `KHR_materials_specular` (`specularFactor`,
 //! `specularColorFactor`); emission = `emissiveFactor ×
-//! KHR_materials_emissive_strength`; `doubleSided` (forced on for
+//! KHR_materials_emissive_strength` (× `emissiveTexture`, sRGB-decoded); `doubleSided` (forced on for
 //! transmission > 0: light crosses the surface both ways).
 //!
 //! Exactly-Lambertian materials stay `Bsdf::Lambert` (base colour as albedo):
@@ -19,7 +19,7 @@
 //! per texture; filters are not (lookups are bilinear, no mipmaps).
 //!
 //! Still ignored, with ONE warning per material listing it: alpha modes,
-//! `normalTexture`, `occlusionTexture`, `emissiveTexture`,
+//! `normalTexture`, `occlusionTexture`,
 //! `transmissionTexture`, `specularTexture`, `specularColorTexture`, other
 //! TEXCOORD sets, texture-transform and other extensions; factors outside
 //! [0, 1] are clamped (noted).
@@ -235,11 +235,24 @@ impl Loader<'_> {
                 ),
             ));
         }
-        if m.emissive_texture.is_some() && emission.max_element() > 0.0 {
-            notes.push("emissiveTexture ignored (uniform emissiveFactor used)".into());
-        }
         // Extensions the typed model does not carry: look at the raw JSON.
         let raw = &self.value["materials"][i];
+        // emissiveTexture (sRGB colour) multiplies the emission; without
+        // emission it has nothing to multiply.
+        let emission_texture = match &m.emissive_texture {
+            Some(info) if emission.max_element() > 0.0 => {
+                if info.tex_coord != 0 {
+                    notes.push(format!(
+                        "emissiveTexture uses TEXCOORD_{} (TEXCOORD_0 used)",
+                        info.tex_coord
+                    ));
+                }
+                let transform =
+                    texture_transform(&raw["emissiveTexture"], "emissiveTexture", &mut notes);
+                Some(self.texture(info.index.value(), transform, &mut notes)?)
+            }
+            _ => None,
+        };
         if let Some(obj) = raw["extensions"].as_object() {
             for key in obj.keys() {
                 if !READ_MATERIAL_EXTENSIONS.contains(&key.as_str()) {
@@ -307,6 +320,7 @@ impl Loader<'_> {
             albedo_texture,
             metallic_roughness_texture,
             emission,
+            emission_texture,
             // Transmitted light crosses the surface both ways.
             double_sided: m.double_sided || trans_factor > 0.0,
         });

@@ -402,6 +402,7 @@ impl ObjLoader<'_> {
             albedo_texture,
             metallic_roughness_texture: None,
             emission,
+            emission_texture: None,
             // Dielectrics are crossed both ways.
             double_sided: refracting || !emissive,
         }))

@@ -140,6 +140,7 @@ fn material(doc: &Doc<'_>, path: &str, raw: &RawMaterial) -> Result<Material, Sc
         albedo_texture: None,
         metallic_roughness_texture: None,
         emission,
+        emission_texture: None,
         double_sided,
     })
 }
