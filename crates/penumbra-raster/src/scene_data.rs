@@ -44,13 +44,22 @@ impl SceneData {
         let mut materials = Vec::with_capacity(scene.materials.len());
         for m in &scene.materials {
             let g = GpuMaterial::from_bsdf(&m.bsdf, m.emission, m.double_sided);
-            if m.albedo_texture.is_some() || m.metallic_roughness_texture.is_some() {
+            if m.albedo_texture.is_some()
+                || m.metallic_roughness_texture.is_some()
+                || m.emission_texture.is_some()
+            {
                 warnings.push(format!(
                     "raster: material '{}': textures are ignored (untextured factors used)",
                     m.name
                 ));
             }
             materials.push(g);
+        }
+        let coloured = scene.meshes.iter().filter(|m| m.colors.is_some()).count();
+        if coloured > 0 {
+            warnings.push(format!(
+                "raster: {coloured} mesh(es) with vertex colours (COLOR_0): ignored (the base colour used)"
+            ));
         }
         if materials.is_empty() {
             // Storage bindings cannot be empty.

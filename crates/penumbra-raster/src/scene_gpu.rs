@@ -371,6 +371,7 @@ fn unweld(mesh: &penumbra_scene::Mesh) -> penumbra_scene::Mesh {
         normals: mesh.normals.as_deref().map(corners),
         uv0: None,
         uv1: None,
+        colors: None,
         indices: (0..mesh.indices.len() as u32)
             .map(|t| [3 * t, 3 * t + 1, 3 * t + 2])
             .collect(),

@@ -2,6 +2,7 @@
 
 use crate::material::MaterialId;
 use glam::{Mat3, Mat4, Vec2, Vec3};
+use penumbra_shading::Rgb;
 
 /// Index of a mesh in [`crate::Scene::meshes`].
 pub type MeshId = usize;
@@ -19,6 +20,9 @@ pub struct Mesh {
     pub uv0: Option<Vec<Vec2>>,
     /// Second UV set (glTF TEXCOORD_1; light and AO maps use it).
     pub uv1: Option<Vec<Vec2>>,
+    /// Per-vertex colours (glTF COLOR_0, linear RGB, alpha dropped):
+    /// they multiply the material's base colour.
+    pub colors: Option<Vec<Rgb>>,
     /// Counter-clockwise triangles: front = geometric normal (v1−v0)×(v2−v0).
     pub indices: Vec<[u32; 3]>,
     pub material: MaterialId,
@@ -46,6 +50,7 @@ impl Mesh {
             ("normals", self.normals.as_ref().map(Vec::len)),
             ("uv0", self.uv0.as_ref().map(Vec::len)),
             ("uv1", self.uv1.as_ref().map(Vec::len)),
+            ("colors", self.colors.as_ref().map(Vec::len)),
         ] {
             if let Some(len) = len
                 && len != n

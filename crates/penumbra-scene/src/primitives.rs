@@ -96,6 +96,7 @@ pub fn sphere(center: Vec3, radius: f32, rings: u32) -> Mesh {
         normals: Some(normals),
         uv0: Some(uvs),
         uv1: None,
+        colors: None,
         indices,
         material: 0,
     }
@@ -132,6 +133,7 @@ pub fn quad_from_vertices(v: [Vec3; 4]) -> Mesh {
             Vec2::new(0.0, 1.0),
         ]),
         uv1: None,
+        colors: None,
         indices: vec![[0, 1, 2], [0, 2, 3]],
         material: 0,
     }
@@ -219,6 +221,7 @@ pub fn disk(center: Vec3, normal: Vec3, radius: f32, segments: u32) -> Mesh {
         normals: None,
         uv0: Some(uvs),
         uv1: None,
+        colors: None,
         indices,
         material: 0,
     }

@@ -36,6 +36,9 @@ pub struct SurfaceHit {
     /// same side as `ng`.
     pub ns: Vec3,
     pub uv: Vec2,
+    /// Interpolated vertex colour (glTF COLOR_0), 1 without one: it
+    /// multiplies the material's base colour.
+    pub color: Vec3,
     /// Barycentrics of the hit for the triangle's vertices 1 and 2 (mesh
     /// order); 0 on a light.
     pub b1: f32,
@@ -174,6 +177,7 @@ impl SceneGeometry {
                 ng: h.n,
                 ns: h.n,
                 uv: Vec2::ZERO,
+                color: Vec3::ONE,
                 b1: 0.0,
                 b2: 0.0,
                 material: 0,
@@ -221,6 +225,7 @@ impl SceneGeometry {
             }
             None => Vec2::new(b1, b2),
         };
+        let color = mesh.colors.as_deref().map_or(Vec3::ONE, interp3);
         // Interpolating the world vertices is more accurate than o + t d.
         let [a, b, c] = self.triangles[hit.triangle as usize];
         let p = a * b0 + b * b1 + c * b2;
@@ -230,6 +235,7 @@ impl SceneGeometry {
             ng,
             ns,
             uv,
+            color,
             b1,
             b2,
             material: inst_data.material,

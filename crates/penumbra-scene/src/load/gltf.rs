@@ -9,7 +9,7 @@
 //!
 //! What is read: the node hierarchy of the default scene (or scene 0)
 //! with TRS/matrix transforms; TRIANGLES primitives (POSITION, NORMAL,
-//! TEXCOORD_0/1, indexed or not, sparse accessors, any component type) as one
+//! TEXCOORD_0/1, COLOR_0 (RGB or RGBA, alpha dropped), indexed or not, sparse accessors, any component type) as one
 //! [`Mesh`] per primitive shared by all [`Instance`]s; the first camera;
 //! `KHR_lights_punctual` (cd and lux → W/sr and W/m² with 683 lm/W);
 //! materials as Lambertian (see `material.rs` for what is exact).
@@ -735,6 +735,24 @@ impl Loader<'_> {
             }
         }
         let [uv0, uv1] = uvs;
+        let colors = match attr(Semantic::Colors(0)) {
+            Some(a) => {
+                let usage = format!("{base}.attributes.COLOR_0");
+                let v = self.read_colors(a, &usage)?;
+                count_check("COLOR_0", v.len())?;
+                if let Some(i) = v
+                    .iter()
+                    .position(|c| !c.is_finite() || c.min_element() < 0.0)
+                {
+                    return Err(self.err(
+                        usage,
+                        format!("vertex {i} has a negative or non-finite colour (accessors[{a}])"),
+                    ));
+                }
+                Some(v)
+            }
+            None => None,
+        };
         let (indices, index_acc) = match prim.indices {
             Some(ix) => {
                 let ix = ix.value();
@@ -782,6 +800,7 @@ impl Loader<'_> {
             normals,
             uv0,
             uv1,
+            colors,
             indices: triangles,
             material,
         };

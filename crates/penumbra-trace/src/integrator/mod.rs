@@ -74,6 +74,10 @@ impl TraceContext<'_> {
         if let Some(t) = material.albedo_texture {
             bsdf = bsdf.tinted(self.scene.textures[t].sample(hit.uv));
         }
+        // glTF COLOR_0 multiplies the base colour (as the texture does).
+        if hit.color != Vec3::ONE {
+            bsdf = bsdf.tinted(hit.color);
+        }
         // glTF metallicRoughnessTexture: roughness × G, metallic × B.
         if let (Some(t), Bsdf::MetallicRoughness(mut m)) =
             (material.metallic_roughness_texture, bsdf)

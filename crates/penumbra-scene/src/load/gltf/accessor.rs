@@ -344,6 +344,22 @@ impl Loader<'_> {
             .collect())
     }
 
+    /// COLOR_0: VEC3 or VEC4 (float or normalised unsigned), alpha dropped.
+    pub(super) fn read_colors(&self, i: usize, usage: &str) -> Result<Vec<glam::Vec3>, SceneError> {
+        let vec4 = self
+            .root
+            .accessors
+            .get(i)
+            .is_some_and(|a| a.type_ == Checked::Valid(Type::Vec4));
+        if !vec4 {
+            return self.read_vec3(i, usage);
+        }
+        let f = self.read_floats(i, usage, Type::Vec4)?;
+        Ok(f.chunks_exact(4)
+            .map(|c| glam::Vec3::new(c[0], c[1], c[2]))
+            .collect())
+    }
+
     pub(super) fn read_vec2(&self, i: usize, usage: &str) -> Result<Vec<glam::Vec2>, SceneError> {
         let f = self.read_floats(i, usage, Type::Vec2)?;
         Ok(f.chunks_exact(2)

@@ -1,7 +1,8 @@
-//! Khronos' TextureSettingsTest (../shared/gltf-samples): the sampler wrap
-//! modes REPEAT, CLAMP_TO_EDGE and MIRRORED_REPEAT. A wrong mode shows a red
-//! "X" (or a red block) where a green check mark belongs; the red pixels of
-//! the albedo layer, seen head-on, are counted per row of the test sheet.
+//! Khronos' test sheets (../shared/gltf-samples), seen head-on through the
+//! albedo layer (the colour a surface reflects, independent of the light):
+//! the sampler wrap modes (TextureSettingsTest), KHR_texture_transform
+//! (TextureTransformTest) and COLOR_0 (VertexColorTest). Each sheet shows a
+//! mark of a known colour where a feature fails; the tests count them.
 
 use glam::Vec3;
 use penumbra_scene::{Camera, IntegratorKind, LoadOptions, Projection, load_scene};
@@ -130,5 +131,36 @@ fn texture_offsets_leave_no_yellow_image() {
         count(&white) > (w * h / 2) as usize / 20,
         "{}",
         count(&white)
+    );
+}
+
+/// VertexColorTest: the top row's check marks are multiplied by red, green
+/// and blue vertex colours; without them each shows an "X" in the other
+/// two channels (cyan, magenta, yellow), which must not appear.
+#[test]
+fn vertex_colours_multiply_the_base_colour() {
+    let albedo = albedo_head_on("VertexColorTest/glTF-Binary/VertexColorTest.glb", 200);
+    let (w, h) = (albedo.width, albedo.height);
+    let two_channels = |p: Vec3| {
+        let on = [p.x, p.y, p.z].iter().filter(|c| **c > 0.4).count();
+        let off = [p.x, p.y, p.z].iter().filter(|c| **c < 0.1).count();
+        on == 2 && off == 1
+    };
+    let pure = |p: Vec3| {
+        let on = [p.x, p.y, p.z].iter().filter(|c| **c > 0.4).count();
+        let off = [p.x, p.y, p.z].iter().filter(|c| **c < 0.1).count();
+        on == 1 && off == 2
+    };
+    let count = |f: &dyn Fn(Vec3) -> bool| {
+        (0..h)
+            .flat_map(|y| (0..w).map(move |x| (x, y)))
+            .filter(|&(x, y)| f(albedo.get(x, y)))
+            .count()
+    };
+    let (x_marks, checks) = (count(&two_channels), count(&pure));
+    assert!(checks > 500, "{checks} pixels of red, green or blue checks");
+    assert!(
+        x_marks < 20,
+        "{x_marks} pixels of cyan, magenta or yellow X marks"
     );
 }
