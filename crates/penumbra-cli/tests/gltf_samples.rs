@@ -212,3 +212,44 @@ fn an_emissive_texture_lights_only_what_it_paints() {
     let (_, _, _, said) = render(dir, "DamagedHelmet", &["--resolution", "16x16"], "h.exr");
     assert!(said.contains("--environment studio adds"), "{said}");
 }
+
+/// Cameras.gltf has two cameras: `--camera` picks either by index, and
+/// names the ones there are when asked for one that is not.
+#[test]
+fn a_file_camera_is_picked_by_index() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let (_, _, first, _) = render(dir, "Cameras", &["--resolution", "40x40"], "c0.exr");
+    let (_, _, second, _) = render(
+        dir,
+        "Cameras",
+        &["--resolution", "40x40", "--camera", "1"],
+        "c1.exr",
+    );
+    assert!(coverage(&first) > 0.05 && coverage(&second) > 0.05);
+    // Two different views: the depth layers differ.
+    let differ = first
+        .pixels
+        .iter()
+        .zip(&second.pixels)
+        .filter(|(a, b)| (a.x - b.x).abs() > 1e-3)
+        .count();
+    assert!(differ > first.pixels.len() / 10, "{differ} pixels differ");
+    let path = sample("Cameras");
+    let o = penumbra(
+        &[
+            "render",
+            path.to_str().unwrap(),
+            "--camera",
+            "7",
+            "-o",
+            "x.png",
+        ],
+        dir,
+    );
+    assert!(
+        stderr(&o).contains("--camera: the scene has no camera '7'; its cameras are 0: 'cameras[0]', 1: 'cameras[1]'"),
+        "{}",
+        stderr(&o)
+    );
+}

@@ -210,11 +210,11 @@ mod tests {
         mesh.material = glow;
         lit.add_mesh(mesh, Mat4::IDENTITY);
         assert_eq!(LightCount::of(&lit).emitters, 1);
-        assert_eq!(
-            apply_environment(&mut lit, &EnvironmentChoice::Default),
-            Ok(None)
-        );
+        let said = apply_environment(&mut lit, &EnvironmentChoice::Default).unwrap();
+        assert!(said.unwrap().contains("--environment studio"));
         assert!(lit.environment_map.is_none());
+        apply_environment(&mut lit, &EnvironmentChoice::Studio).unwrap();
+        assert!(lit.environment_map.is_some());
 
         let mut dark = Scene::default();
         assert_eq!(

@@ -29,6 +29,6 @@ pub use load::{LoadOptions, load_scene};
 pub use material::{Material, MaterialId};
 pub use mesh::{Instance, Mesh, MeshId};
 pub use plane::Plane;
-pub use scene::{Scene, SceneAreaLight, SceneLight};
+pub use scene::{NamedCamera, Scene, SceneAreaLight, SceneLight};
 pub use settings::{IntegratorKind, RenderSettings};
 pub use texture::{Texture, TextureId};

@@ -26,6 +26,15 @@ pub struct SceneAreaLight {
 
 /// Everything a renderer needs. Emissive meshes are area lights too: the
 /// instances whose material has non-zero emission.
+/// A camera a scene file defines, with its name and the aspect ratio
+/// (width / height) it asks for, if any.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NamedCamera {
+    pub name: String,
+    pub camera: Camera,
+    pub aspect: Option<f32>,
+}
+
 #[derive(Clone, Debug, Default)]
 pub struct Scene {
     pub meshes: Vec<Mesh>,
@@ -37,6 +46,9 @@ pub struct Scene {
     pub area_lights: Vec<SceneAreaLight>,
     /// `None` until a loader or the user sets one; renderers then need a default.
     pub camera: Option<Camera>,
+    /// Every camera the file defines, in file order (`camera` is the first
+    /// unless one is picked with [`Scene::use_camera`]).
+    pub cameras: Vec<NamedCamera>,
     /// Constant radiance of the background / environment [W/(sr·m²)],
     /// used when there is no `environment_map`.
     pub background: Rgb,
@@ -48,6 +60,39 @@ pub struct Scene {
 }
 
 impl Scene {
+    /// Makes the file camera named `which`, or with index `which`, the
+    /// scene's camera; its aspect ratio, if it gives one, sets the image
+    /// height for a width of 512 (as loading does for the first camera).
+    /// The error lists the cameras there are.
+    pub fn use_camera(&mut self, which: &str) -> Result<(), String> {
+        let found = match which.trim().parse::<usize>() {
+            Ok(i) => self.cameras.get(i),
+            Err(_) => self.cameras.iter().find(|c| c.name == which),
+        };
+        let Some(c) = found.cloned() else {
+            let names: Vec<String> = self
+                .cameras
+                .iter()
+                .enumerate()
+                .map(|(i, c)| format!("{i}: '{}'", c.name))
+                .collect();
+            return Err(if names.is_empty() {
+                format!("the scene defines no camera, so there is no camera '{which}'")
+            } else {
+                format!(
+                    "the scene has no camera '{which}'; its cameras are {}",
+                    names.join(", ")
+                )
+            });
+        };
+        self.camera = Some(c.camera);
+        if let Some(a) = c.aspect {
+            self.settings.width = 512;
+            self.settings.height = ((512.0 / a).round() as u32).clamp(1, 16384);
+        }
+        Ok(())
+    }
+
     /// World-space bounds (min, max) of all instances and analytic area
     /// lights; `None` if there are none.
     pub fn bounds(&self) -> Option<(Vec3, Vec3)> {

@@ -183,7 +183,18 @@ fn print_scene(path: &std::path::Path) -> Result<()> {
     }
     match &scene.camera {
         Some(c) => println!("camera:     at {:?}, {:?}", c.position(), c.projection),
-        None => println!("camera:     none (a default camera framing the bounds is used)"),
+        None => println!(
+            "camera:     none (a camera framing the bounds from 30° right of +z, 25° up is used)"
+        ),
+    }
+    if scene.cameras.len() > 1 {
+        for (i, c) in scene.cameras.iter().enumerate() {
+            println!(
+                "  camera {i}: '{}' at {:?} (render --camera {i})",
+                c.name,
+                c.camera.position().to_array()
+            );
+        }
     }
     let s = &scene.settings;
     println!(

@@ -47,6 +47,10 @@ pub struct RenderArgs {
     /// .hdr/.exr lat-long map that replaces it.
     #[arg(long, default_value = "default", value_parser = parse_environment)]
     pub environment: EnvironmentChoice,
+    /// The file camera to render through, by name or index (`penumbra info`
+    /// lists them) [default: the first; with none, one framing the scene].
+    #[arg(long, value_name = "NAME|INDEX")]
+    pub camera: Option<String>,
     /// Tone-mapping operator for PNG output.
     #[arg(long, value_enum, default_value_t = ToneArg::Filmic)]
     pub tonemap: ToneArg,
@@ -232,6 +236,11 @@ pub fn run(args: RenderArgs) -> Result<()> {
     // Check the output before spending time on loading and rendering.
     check_output_path(&args.output)?;
     let mut scene = scene_or_builtin(args.scene.as_deref())?;
+    if let Some(c) = &args.camera {
+        scene
+            .use_camera(c)
+            .map_err(|e| anyhow::anyhow!("--camera: {e}"))?;
+    }
     light_the_environment(&mut scene, &args.environment)?;
     let mut settings = scene.settings.clone();
     args.settings.apply(&mut settings);

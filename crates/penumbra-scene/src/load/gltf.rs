@@ -466,9 +466,6 @@ impl Loader<'_> {
 
     fn camera(&mut self, n: usize, c: usize, world: Mat4) -> Result<(), SceneError> {
         self.notes.cameras.push(n);
-        if self.scene.camera.is_some() {
-            return Ok(());
-        }
         let cpath = format!("cameras[{c}]");
         let cam = self
             .root
@@ -507,15 +504,13 @@ impl Loader<'_> {
                 return Err(self.err(format!("{cpath}.type"), "invalid camera type"));
             }
         };
-        if let Some(a) = aspect {
-            if !(a.is_finite() && a > 0.0) {
-                return Err(self.err(
-                    format!("{cpath}.perspective.aspectRatio"),
-                    format!("aspectRatio {a} must be positive"),
-                ));
-            }
-            self.scene.settings.width = 512;
-            self.scene.settings.height = ((512.0 / a).round() as u32).clamp(1, 16384);
+        if let Some(a) = aspect
+            && !(a.is_finite() && a > 0.0)
+        {
+            return Err(self.err(
+                format!("{cpath}.perspective.aspectRatio"),
+                format!("aspectRatio {a} must be positive"),
+            ));
         }
         // The camera transform must be rigid: drop any scale.
         let (_, rotation, translation) = world.to_scale_rotation_translation();
@@ -526,10 +521,25 @@ impl Loader<'_> {
                 "the camera's transform has no valid rotation (zero scale?)",
             ));
         }
-        self.scene.camera = Some(Camera {
+        let camera = Camera {
             camera_to_world: Mat4::from_rotation_translation(rotation, translation),
             projection,
+        };
+        let name = cam
+            .name
+            .clone()
+            .or_else(|| self.root.nodes.get(n).and_then(|node| node.name.clone()))
+            .unwrap_or_else(|| format!("cameras[{c}]"));
+        self.scene.cameras.push(crate::NamedCamera {
+            name: name.clone(),
+            camera,
+            aspect,
         });
+        if self.scene.camera.is_none() {
+            self.scene
+                .use_camera(&(self.scene.cameras.len() - 1).to_string())
+                .map_err(|e| self.err(cpath, e))?;
+        }
         Ok(())
     }
 
@@ -872,7 +882,7 @@ impl Loader<'_> {
         }
         if n.cameras.len() > 1 {
             w.push(format!(
-                "{f}: {} camera nodes; using the first (nodes[{}])",
+                "{f}: {} camera nodes; using the first (nodes[{}]); --camera NAME|INDEX picks another",
                 n.cameras.len(),
                 n.cameras[0]
             ));
