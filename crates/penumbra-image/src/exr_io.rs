@@ -90,7 +90,17 @@ pub(crate) fn encode(
         Encoding::SMALL_LOSSLESS,
         AnyChannels::sort(channels.into()),
     );
-    let image = ::exr::image::Image::from_layer(layer);
+    write_any(&::exr::image::Image::from_layer(layer), &err)
+}
+
+/// Encodes an EXR image in memory; `err` wraps a message in the caller's error.
+pub(crate) fn write_any<L>(
+    image: &::exr::image::Image<L>,
+    err: &dyn Fn(String) -> ImageError,
+) -> Result<Vec<u8>, ImageError>
+where
+    L: for<'a> ::exr::image::write::layers::WritableLayers<'a>,
+{
     let mut buffer = Vec::new();
     guard(
         || {

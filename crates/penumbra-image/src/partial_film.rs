@@ -19,20 +19,19 @@
 //!   the seed, …).
 
 use std::collections::BTreeMap;
-use std::io::Cursor;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
 use ::exr::prelude::{
     AnyChannel, AnyChannels, AttributeValue, Encoding, FlatSamples, ImageAttributes, IntegerBounds,
-    LayerAttributes, Text, Vec2, WritableImage,
+    LayerAttributes, Text, Vec2,
 };
 use glam::DVec3;
 
 use crate::buffer::pixel_count;
-use crate::exr_io::read_any;
+use crate::exr_io::{read_any, write_any};
 use crate::film::PixelStats;
-use crate::io::{check_output_path, guard, read_file, write_atomic};
+use crate::io::{check_output_path, read_file, write_atomic};
 use crate::{Film, ImageError};
 
 /// The version written in `penumbra.film`.
@@ -199,18 +198,10 @@ fn encode(path: &Path, part: &PartialFilm) -> Result<Vec<u8>, ImageError> {
     );
     let display =
         IntegerBounds::from_dimensions((part.image_width as usize, part.image_height as usize));
-    let image = ::exr::image::Image::new(ImageAttributes::new(display), layer);
-    let mut buffer = Vec::new();
-    guard(
-        || {
-            image
-                .write()
-                .to_buffered(Cursor::new(&mut buffer))
-                .map_err(|e| e.to_string())
-        },
-        err,
-    )?;
-    Ok(buffer)
+    write_any(
+        &::exr::image::Image::new(ImageAttributes::new(display), layer),
+        &err,
+    )
 }
 
 fn decode(path: &Path, bytes: &[u8]) -> Result<PartialFilm, ImageError> {

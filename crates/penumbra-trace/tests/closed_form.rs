@@ -9,6 +9,21 @@ use penumbra_shading::Rgb;
 use penumbra_shading::light::{Light, PointLight};
 use penumbra_trace::{RenderOptions, render};
 
+/// Adds a closed sphere of radius 3 (no UVs) made of `material` and a
+/// camera at its centre.
+fn furnace(scene: &mut Scene, material: Material) {
+    let m = scene.add_material(material);
+    let mut sphere = penumbra_trace::bench::bench_mesh(20_000);
+    sphere.material = m;
+    scene.add_mesh(sphere, Mat4::from_scale(Vec3::splat(3.0)));
+    scene.camera = Some(Camera::look_at(
+        Vec3::ZERO,
+        Vec3::X,
+        Vec3::Y,
+        Projection::Perspective { fov_y: 1.5 },
+    ));
+}
+
 /// Furnace: inside a closed surface of albedo ρ that also emits Le
 /// everywhere, radiance is Le (1 + ρ + ρ² + …) = Le / (1 − ρ).
 #[test]
@@ -16,20 +31,12 @@ fn furnace_gives_le_over_one_minus_rho() {
     for rho in [0.5f32, 0.8] {
         let mut scene = Scene::default();
         let le = 0.7;
-        let m = scene.add_material(Material {
+        let m = Material {
             emission: Rgb::splat(le),
             double_sided: true,
             ..Material::lambert("furnace", Rgb::splat(rho))
-        });
-        let mut sphere = penumbra_trace::bench::bench_mesh(20_000);
-        sphere.material = m;
-        scene.add_mesh(sphere, Mat4::from_scale(Vec3::splat(3.0)));
-        scene.camera = Some(Camera::look_at(
-            Vec3::ZERO,
-            Vec3::X,
-            Vec3::Y,
-            Projection::Perspective { fov_y: 1.5 },
-        ));
+        };
+        furnace(&mut scene, m);
         let out = render(
             &scene,
             &settings(IntegratorKind::Path, 32, 32, 64, 1000),
@@ -67,21 +74,13 @@ fn furnace_with_an_emission_texture() {
         wrap: [penumbra_scene::texture::Wrap::ClampToEdge; 2],
         uv_transform: glam::Affine2::IDENTITY,
     });
-    let m = scene.add_material(Material {
+    let m = Material {
         emission: Rgb::splat(le),
         emission_texture: Some(0),
         double_sided: true,
         ..Material::lambert("furnace", Rgb::splat(rho))
-    });
-    let mut sphere = penumbra_trace::bench::bench_mesh(20_000);
-    sphere.material = m;
-    scene.add_mesh(sphere, Mat4::from_scale(Vec3::splat(3.0)));
-    scene.camera = Some(Camera::look_at(
-        Vec3::ZERO,
-        Vec3::X,
-        Vec3::Y,
-        Projection::Perspective { fov_y: 1.5 },
-    ));
+    };
+    furnace(&mut scene, m);
     let expected = le * 13.0 / 24.0 / (1.0 - rho);
     for integrator in [IntegratorKind::Path, IntegratorKind::Direct] {
         let out = render(

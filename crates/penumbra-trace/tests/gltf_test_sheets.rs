@@ -23,34 +23,10 @@ const ROWS: [&str; 8] = [
 
 #[test]
 fn wrap_modes_show_no_red_marks() {
-    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join(
-        "../../../shared/gltf-samples/TextureSettingsTest/glTF-Binary/TextureSettingsTest.glb",
+    let albedo = albedo_head_on(
+        "TextureSettingsTest/glTF-Binary/TextureSettingsTest.glb",
+        300,
     );
-    let mut scene = load_scene(&file, &LoadOptions::default()).unwrap();
-    let (lo, hi) = scene.bounds().unwrap();
-    let centre = 0.5 * (lo + hi);
-    let size = hi - lo;
-    // Head-on, orthographic, the sheet filling the image.
-    scene.camera = Some(Camera::look_at(
-        centre + Vec3::Z * 10.0,
-        centre,
-        Vec3::Y,
-        Projection::Orthographic { height: size.y },
-    ));
-    let mut settings = scene.settings.clone();
-    settings.width = (300.0 * size.x / size.y).round() as u32;
-    settings.height = 300;
-    settings.spp = 1;
-    settings.integrator = IntegratorKind::Local;
-    let out = render(
-        &scene,
-        &settings,
-        &RenderOptions {
-            aovs: true,
-            ..Default::default()
-        },
-    );
-    let albedo = &out.aovs.iter().find(|(n, _)| n == "albedo").unwrap().1;
     let red = |p: Vec3| p.x > 0.3 && p.y < 0.1 && p.z < 0.1;
     let green = |p: Vec3| p.y > 0.1 && p.x < 0.1 && p.z < 0.1;
     // The sheet's rows: the 8 test rows share the image height below the
@@ -76,8 +52,8 @@ fn wrap_modes_show_no_red_marks() {
     }
 }
 
-/// The albedo of a glTF sample seen head-on (orthographic, along −z),
-/// `height` pixels high.
+/// The albedo of a glTF sample seen head-on (orthographic, along −z, the
+/// sheet filling the image), `height` pixels high.
 fn albedo_head_on(model: &str, height: u32) -> penumbra_image::Image {
     let file = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../../../shared/gltf-samples")
