@@ -39,6 +39,16 @@ fn render(dir: &Path, model: &str, extra: &[&str], out: &str) -> (Image, Image, 
     (layers.rgb, normal, depth, stderr(&o))
 }
 
+/// The pixels of `image` whose camera rays hit the model (depth > 0).
+fn on_model<'a>(image: &'a Image, depth: &'a Image) -> impl Iterator<Item = glam::Vec3> + 'a {
+    image
+        .pixels
+        .iter()
+        .zip(&depth.pixels)
+        .filter(|(_, d)| d.x > 0.0)
+        .map(|(p, _)| *p)
+}
+
 /// Fraction of pixels whose camera rays hit the model.
 fn coverage(depth: &Image) -> f64 {
     depth.pixels.iter().filter(|d| d.x > 0.0).count() as f64 / depth.pixels.len() as f64
@@ -53,13 +63,7 @@ fn a_file_without_lights_is_lit_by_the_default_environment() {
         said.contains("lit by the built-in studio environment"),
         "{said}"
     );
-    let model: Vec<f32> = lit
-        .pixels
-        .iter()
-        .zip(&depth.pixels)
-        .filter(|(_, d)| d.x > 0.0)
-        .map(|(p, _)| p.x + p.y + p.z)
-        .collect();
+    let model: Vec<f32> = on_model(&lit, &depth).map(|p| p.x + p.y + p.z).collect();
     assert!(model.len() > 50, "the duck covers {} pixels", model.len());
     let mean = model.iter().sum::<f32>() / model.len() as f32;
     // A yellow Lambertian model under an environment of mean radiance 1.
@@ -195,13 +199,7 @@ fn an_emissive_texture_lights_only_what_it_paints() {
         "helmet.exr",
     );
     assert!(!said.contains("emissiveTexture ignored"), "{said}");
-    let surface: Vec<f32> = dark
-        .pixels
-        .iter()
-        .zip(&depth.pixels)
-        .filter(|(_, d)| d.x > 0.0)
-        .map(|(p, _)| p.max_element())
-        .collect();
+    let surface: Vec<f32> = on_model(&dark, &depth).map(|p| p.max_element()).collect();
     assert!(surface.len() > 200, "{}", surface.len());
     let mean = surface.iter().sum::<f32>() / surface.len() as f32;
     let lit = surface.iter().filter(|v| **v > 0.2).count();

@@ -331,24 +331,16 @@ impl Film {
 /// `x0..x0+width` × `y0..y0+height`.
 #[derive(Clone)]
 pub struct FilmTile {
-    /// Left column (absolute).
-    pub x0: u32,
-    /// Top row (absolute).
-    pub y0: u32,
-    /// Width in pixels.
-    pub width: u32,
-    /// Height in pixels.
-    pub height: u32,
     w: Window,
 }
 
 impl fmt::Debug for FilmTile {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.debug_struct("FilmTile")
-            .field("x0", &self.x0)
-            .field("y0", &self.y0)
-            .field("width", &self.width)
-            .field("height", &self.height)
+            .field("x0", &self.w.x0)
+            .field("y0", &self.w.y0)
+            .field("width", &self.w.width)
+            .field("height", &self.w.height)
             .field("rejected_samples", &self.w.rejected)
             .finish()
     }
@@ -358,12 +350,28 @@ impl FilmTile {
     /// An empty tile covering `x0..x0+width` × `y0..y0+height`.
     pub fn new(x0: u32, y0: u32, width: u32, height: u32) -> Self {
         Self {
-            x0,
-            y0,
-            width,
-            height,
             w: Window::new(x0, y0, width, height),
         }
+    }
+
+    /// Left column (absolute).
+    pub fn x0(&self) -> u32 {
+        self.w.x0
+    }
+
+    /// Top row (absolute).
+    pub fn y0(&self) -> u32 {
+        self.w.y0
+    }
+
+    /// Width in pixels.
+    pub fn width(&self) -> u32 {
+        self.w.width
+    }
+
+    /// Height in pixels.
+    pub fn height(&self) -> u32 {
+        self.w.height
     }
 
     /// Adds a sample for absolute pixel (x, y). Pixels outside the tile are
@@ -458,7 +466,10 @@ mod tests {
         let mut it = values.chunks(3);
         for pass in 0..3 {
             let mut tiles = tiled.tiles(3);
-            assert_eq!(tiles.iter().map(|t| t.width * t.height).sum::<u32>(), w * h);
+            assert_eq!(
+                tiles.iter().map(|t| t.width() * t.height()).sum::<u32>(),
+                w * h
+            );
             for _ in 0..(pass + 1) {
                 for y in 0..h {
                     for x in 0..w {
@@ -600,6 +611,6 @@ mod tests {
         assert_eq!(film.sample_count(4, 2), 1);
         assert_eq!(film.mean().pixels, vec![Rgb::ZERO, Rgb::splat(2.0)]);
         let tiles = film.tiles(1);
-        assert_eq!((tiles[1].x0, tiles[1].y0), (4, 2));
+        assert_eq!((tiles[1].x0(), tiles[1].y0()), (4, 2));
     }
 }

@@ -209,7 +209,7 @@ static TEMP_COUNTER: AtomicU64 = AtomicU64::new(0);
 
 /// Writes `bytes` to `path` atomically: create `.<name>.<pid>.<n>.tmp` next to
 /// it (exclusive create), write, fsync, rename over `path`.
-pub(crate) fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), ImageError> {
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), ImageError> {
     let dir = parent_dir(path);
     let name = path
         .file_name()

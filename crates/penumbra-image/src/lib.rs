@@ -34,11 +34,14 @@ pub use crate::flip::{
     DEFAULT_PIXELS_PER_DEGREE, ExposureRange, FlipBackend, FlipOptions, flip_exposure_range,
     flip_heatmap, hdr_flip, hdr_flip_with,
 };
-pub use crate::io::{ImageFormat, check_output_path, read_image, write_image};
+pub use crate::io::{ImageFormat, check_output_path, read_image, write_atomic, write_image};
 pub use crate::memory::available_memory;
-pub use crate::metrics::{Metrics, compare, noise_rel_mse, psnr, rel_mse, rmse};
+pub use crate::metrics::{
+    Metrics, compare, nearest_rank, noise_rel_mse, percentile, psnr, rel_mse, rmse,
+};
 pub use crate::partial_film::{
-    PartialFilm, merge_parts, parse_range, read_partial_film, write_partial_film,
+    PartialFilm, key_differences, merge_parts, parse_range, read_partial_film, render_key,
+    write_partial_film,
 };
 pub use crate::tonemap::{
     Exposure, ToneMapping, ToneOperator, aces_filmic, auto_exposure_ev, srgb_eotf, srgb_oetf,

@@ -127,6 +127,22 @@ pub fn noise_rel_mse(mean: &Image, variance: &Image) -> f64 {
     sum / n.max(1) as f64
 }
 
+/// The `q`-quantile of `values` by the nearest-rank rule (the smallest value
+/// with at least ⌈qN⌉ values at or below it); NaN for no values.
+pub fn percentile(mut values: Vec<f64>, q: f64) -> f64 {
+    values.sort_by(f64::total_cmp);
+    nearest_rank(&values, q)
+}
+
+/// [`percentile`] of values already sorted ascending.
+pub fn nearest_rank(sorted: &[f64], q: f64) -> f64 {
+    if sorted.is_empty() {
+        return f64::NAN;
+    }
+    let rank = ((q * sorted.len() as f64).ceil() as usize).clamp(1, sorted.len());
+    sorted[rank - 1]
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -196,5 +212,15 @@ mod tests {
         let var = Image::filled(2, 2, Rgb::new(0.001, 0.002, 0.004));
         let want = (0.001 / (0.09 + 0.01) + 0.002 / 0.01 + 0.004 / 1.01) / 3.0;
         assert!((noise_rel_mse(&mean, &var) / want - 1.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn nearest_rank_percentile() {
+        let v: Vec<f64> = (1..=100).map(f64::from).collect();
+        assert_eq!(percentile(v.clone(), 0.99), 99.0);
+        assert_eq!(percentile(v.clone(), 1.0), 100.0);
+        assert_eq!(percentile(v, 0.5), 50.0);
+        assert_eq!(percentile(vec![3.0, 1.0, 2.0], 0.0), 1.0);
+        assert!(percentile(Vec::new(), 0.5).is_nan());
     }
 }

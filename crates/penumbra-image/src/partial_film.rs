@@ -65,26 +65,54 @@ impl PartialFilm {
 
     /// The part's extent in words: `pixels x0..x1 × y0..y1, samples a..b`.
     pub fn extent(&self) -> String {
-        describe_cell(
-            (self.image_width, self.image_height),
-            self.film.x0()..self.film.x0() + self.film.width(),
-            self.film.y0()..self.film.y0() + self.film.height(),
-            &self.samples,
-        )
+        let (xs, ys) = self.window();
+        describe_cell((self.image_width, self.image_height), xs, ys, &self.samples)
     }
 
-    /// The identity a part must share with the others: image size, samples
-    /// per pixel, and the named settings.
-    fn signature(&self) -> String {
-        let mut s = format!(
-            "image {}x{}\nspp {}\n",
-            self.image_width, self.image_height, self.spp
-        );
-        for (k, v) in &self.identity {
-            s.push_str(&format!("{k} {v}\n"));
-        }
-        s
+    /// The pixel columns and rows of the part's window.
+    pub fn window(&self) -> (Range<u32>, Range<u32>) {
+        let f = &self.film;
+        (f.x0()..f.x0() + f.width(), f.y0()..f.y0() + f.height())
     }
+
+    /// What every part of one render shares, by name (see [`render_key`]).
+    pub fn render_key(&self) -> BTreeMap<String, String> {
+        render_key(
+            (self.image_width, self.image_height),
+            self.spp,
+            &self.identity,
+        )
+    }
+}
+
+/// What every part of one render shares, by name: `image` (`WxH`), `spp`
+/// (of the whole render) and the identity settings.
+pub fn render_key(
+    (width, height): (u32, u32),
+    spp: u32,
+    identity: &BTreeMap<String, String>,
+) -> BTreeMap<String, String> {
+    let mut key = identity.clone();
+    key.insert("image".into(), format!("{width}x{height}"));
+    key.insert("spp".into(), spp.to_string());
+    key
+}
+
+/// The entries where two render keys differ: (name, value in `a`, value in
+/// `b`), "nothing" where one lacks the name.
+pub fn key_differences(
+    a: &BTreeMap<String, String>,
+    b: &BTreeMap<String, String>,
+) -> Vec<(String, String, String)> {
+    let value = |m: &BTreeMap<String, String>, k: &String| {
+        m.get(k).cloned().unwrap_or_else(|| "nothing".into())
+    };
+    let names: std::collections::BTreeSet<&String> = a.keys().chain(b.keys()).collect();
+    names
+        .into_iter()
+        .filter(|k| a.get(*k) != b.get(*k))
+        .map(|k| (k.clone(), value(a, k), value(b, k)))
+        .collect()
 }
 
 fn describe_cell(
@@ -356,51 +384,43 @@ pub fn merge_parts(parts: &[(PathBuf, PartialFilm)]) -> Result<PartialFilm, Imag
     let Some((_, first)) = parts.first() else {
         return Err(merge_err("no parts to merge".into()));
     };
-    // The signature most parts share is the render's; name every other part.
-    let mut groups: BTreeMap<String, Vec<&Path>> = BTreeMap::new();
-    for (path, p) in parts {
-        groups.entry(p.signature()).or_default().push(path);
+    // The key most parts share is the render's; name every other part.
+    let keys: Vec<BTreeMap<String, String>> = parts.iter().map(|(_, p)| p.render_key()).collect();
+    let mut counts: BTreeMap<&BTreeMap<String, String>, usize> = BTreeMap::new();
+    for k in &keys {
+        *counts.entry(k).or_default() += 1;
     }
-    if groups.len() > 1 {
-        let (main, _) = groups
+    if counts.len() > 1 {
+        let main = counts
             .iter()
-            .max_by_key(|(_, paths)| paths.len())
-            .map(|(s, p)| (s.clone(), p.len()))
+            .max_by_key(|(_, n)| **n)
+            .map(|(k, _)| (*k).clone())
             .unwrap_or_default();
-        let mut lines = Vec::new();
-        for (path, p) in parts {
-            let sig = p.signature();
-            if sig != main {
-                let differs: Vec<String> = sig
-                    .lines()
-                    .filter(|l| !main.lines().any(|m| m == *l))
-                    .map(|l| l.replacen(' ', " = ", 1))
-                    .collect();
-                let expected: Vec<String> = main
-                    .lines()
-                    .filter(|m| !sig.lines().any(|l| l == *m))
-                    .map(|l| l.replacen(' ', " = ", 1))
-                    .collect();
-                lines.push(format!(
+        let lines: Vec<String> = parts
+            .iter()
+            .zip(&keys)
+            .filter(|(_, k)| **k != main)
+            .map(|((path, _), k)| {
+                let d = key_differences(k, &main);
+                let side = |pick: fn(&(String, String, String)) -> String| {
+                    d.iter().map(pick).collect::<Vec<_>>().join(", ")
+                };
+                format!(
                     "{}: belongs to another render: {} (the other parts have {})",
                     path.display(),
-                    differs.join(", "),
-                    expected.join(", ")
-                ));
-            }
-        }
+                    side(|(n, v, _)| format!("{n} = {v}")),
+                    side(|(n, _, v)| format!("{n} = {v}"))
+                )
+            })
+            .collect();
         return Err(merge_err(lines.join("\n")));
     }
 
     let boxes: Vec<[Range<u32>; 3]> = parts
         .iter()
         .map(|(_, p)| {
-            let f = &p.film;
-            [
-                f.x0()..f.x0() + f.width(),
-                f.y0()..f.y0() + f.height(),
-                p.samples.clone(),
-            ]
+            let (xs, ys) = p.window();
+            [xs, ys, p.samples.clone()]
         })
         .collect();
     let overlap = |a: &Range<u32>, b: &Range<u32>| a.start.max(b.start)..a.end.min(b.end);

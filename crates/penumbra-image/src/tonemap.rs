@@ -13,6 +13,7 @@
 use std::fmt;
 use std::str::FromStr;
 
+use crate::metrics::nearest_rank;
 use crate::{Image, Rgb};
 
 /// Tone curve applied after exposure.
@@ -130,25 +131,20 @@ pub const AUTO_EXPOSURE_LIMIT: f32 = 20.0;
 /// - An image with no lit pixel gets EV 0; the result is limited to ±20 stops.
 pub fn auto_exposure_ev(img: &Image, metered: Option<&[bool]>) -> f32 {
     let mask = metered.filter(|m| m.len() == img.pixels.len() && m.contains(&true));
-    let mut lum: Vec<f32> = img
+    let mut lum: Vec<f64> = img
         .pixels
         .iter()
         .enumerate()
         .filter(|(i, _)| mask.is_none_or(|m| m[*i]))
-        .map(|(_, p)| penumbra_shading::color::luminance(*p))
+        .map(|(_, p)| f64::from(penumbra_shading::color::luminance(*p)))
         .filter(|l| l.is_finite() && *l > 0.0)
         .collect();
     if lum.is_empty() {
         return 0.0;
     }
-    lum.sort_by(f32::total_cmp);
-    let rank = |q: f64| lum[((q * lum.len() as f64).ceil() as usize).clamp(1, lum.len()) - 1];
-    let (lo, hi) = (rank(0.01), rank(0.99));
-    let mean_log = lum
-        .iter()
-        .map(|l| f64::from(l.clamp(lo, hi)).ln())
-        .sum::<f64>()
-        / lum.len() as f64;
+    lum.sort_by(f64::total_cmp);
+    let (lo, hi) = (nearest_rank(&lum, 0.01), nearest_rank(&lum, 0.99));
+    let mean_log = lum.iter().map(|l| l.clamp(lo, hi).ln()).sum::<f64>() / lum.len() as f64;
     let ev = (f64::from(AUTO_EXPOSURE_KEY).ln() - mean_log) / std::f64::consts::LN_2;
     (ev as f32).clamp(-AUTO_EXPOSURE_LIMIT, AUTO_EXPOSURE_LIMIT)
 }

@@ -53,15 +53,19 @@ pub fn environment_from_file(path: &Path) -> Result<EnvironmentMap, String> {
 /// 1 in every channel and a white Lambertian surface open to the whole
 /// environment has radiance 1.
 pub fn studio_environment() -> EnvironmentMap {
-    let decode = |scale: Rgb| {
-        let image = image::load_from_memory_with_format(STUDIO_EXR, image::ImageFormat::OpenExr);
-        // The asset is compiled in and checked by a test; it cannot fail to decode.
-        let image = image.unwrap_or_else(|e| panic!("the built-in studio.exr: {e}"));
-        environment_from_image(image, scale, 0.0)
-            .unwrap_or_else(|e| panic!("the built-in studio.exr: {e}"))
-    };
-    let mean = decode(Rgb::ONE).mean_radiance();
-    decode(Rgb::ONE / mean.max(Rgb::splat(1e-6)))
+    // The asset is compiled in and checked by a test; it cannot fail to decode.
+    let studio = image::load_from_memory_with_format(STUDIO_EXR, image::ImageFormat::OpenExr)
+        .map_err(|e| e.to_string())
+        .and_then(|image| environment_from_image(image, Rgb::ONE, 0.0))
+        .unwrap_or_else(|e| panic!("the built-in studio.exr: {e}"));
+    let scale = Rgb::ONE / studio.mean_radiance().max(Rgb::splat(1e-6));
+    EnvironmentMap::new(
+        studio.width(),
+        studio.height(),
+        studio.texels().to_vec(),
+        scale,
+        0.0,
+    )
 }
 
 /// The light sources of a scene, counted.
@@ -81,16 +85,14 @@ pub struct LightCount {
 impl LightCount {
     /// Counts the light sources of `scene`.
     pub fn of(scene: &Scene) -> Self {
-        let emits = |i: &crate::Instance| {
-            let material = i.material.or(scene.meshes.get(i.mesh).map(|m| m.material));
-            material
-                .and_then(|m| scene.materials.get(m))
-                .is_some_and(|m| m.emission.max_element() > 0.0)
-        };
         LightCount {
             lights: scene.lights.len(),
             area_lights: scene.area_lights.len(),
-            emitters: scene.instances.iter().filter(|i| emits(i)).count(),
+            emitters: scene
+                .instances
+                .iter()
+                .filter(|i| scene.instance_material(i).is_emissive())
+                .count(),
             environment: scene.environment_map.is_some() || scene.background.max_element() > 0.0,
         }
     }
@@ -195,6 +197,7 @@ mod tests {
     #[test]
     fn only_an_unlit_scene_gets_the_studio() {
         let mut scene = Scene::default();
+        scene.add_material(Material::default_grey());
         scene.add_mesh(primitives::sphere(Vec3::ZERO, 1.0, 4), Mat4::IDENTITY);
         assert!(LightCount::of(&scene).is_dark());
         let said = apply_environment(&mut scene, &EnvironmentChoice::Default).unwrap();

@@ -57,6 +57,15 @@ impl Material {
         }
     }
 
+    /// Emitted radiance at texture coordinates `uv`: `emission`, times the
+    /// emission texture (looked up in `textures`) where there is one.
+    pub fn emission_at(&self, textures: &[crate::Texture], uv: glam::Vec2) -> Rgb {
+        match self.emission_texture {
+            Some(t) => self.emission * textures[t].sample(uv),
+            None => self.emission,
+        }
+    }
+
     /// Power emitted by `area` m² of this material: Φ = π Le A per emitting
     /// side (a Lambertian emitter's exitance is π Le).
     pub fn emitted_power(&self, area: f32) -> Rgb {

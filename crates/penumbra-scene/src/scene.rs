@@ -85,12 +85,18 @@ impl Scene {
                 )
             });
         };
+        self.set_camera(&c);
+        Ok(())
+    }
+
+    /// Makes `c` the scene's camera; its aspect ratio, if it gives one, sets
+    /// the image height for a width of 512.
+    pub fn set_camera(&mut self, c: &NamedCamera) {
         self.camera = Some(c.camera);
         if let Some(a) = c.aspect {
             self.settings.width = 512;
             self.settings.height = ((512.0 / a).round() as u32).clamp(1, 16384);
         }
-        Ok(())
     }
 
     /// World-space bounds (min, max) of all instances and analytic area

@@ -3,7 +3,7 @@
 //! ratio per channel.
 
 use crate::row::Errors;
-use penumbra_image::{Image, ImageError, hdr_flip, rel_mse};
+use penumbra_image::{Image, ImageError, hdr_flip, percentile, rel_mse};
 
 /// The errors of `test` against `truth`, and the per-pixel FLIP map.
 pub fn errors(truth: &Image, test: &Image) -> Result<(Errors, Image), ImageError> {
@@ -27,31 +27,10 @@ pub fn mean_ratio(truth: &Image, test: &Image) -> [f64; 3] {
     })
 }
 
-/// The `q`-quantile of `values` by the nearest-rank rule (the smallest value
-/// with at least ⌈qN⌉ values at or below it); NaN for no values.
-pub fn percentile(mut values: Vec<f64>, q: f64) -> f64 {
-    if values.is_empty() {
-        return f64::NAN;
-    }
-    values.sort_by(f64::total_cmp);
-    let rank = ((q * values.len() as f64).ceil() as usize).clamp(1, values.len());
-    values[rank - 1]
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use penumbra_image::Rgb;
-
-    #[test]
-    fn nearest_rank_percentile() {
-        let v: Vec<f64> = (1..=100).map(f64::from).collect();
-        assert_eq!(percentile(v.clone(), 0.99), 99.0);
-        assert_eq!(percentile(v.clone(), 1.0), 100.0);
-        assert_eq!(percentile(v, 0.5), 50.0);
-        assert_eq!(percentile(vec![3.0, 1.0, 2.0], 0.0), 1.0);
-        assert!(percentile(Vec::new(), 0.5).is_nan());
-    }
 
     #[test]
     fn mean_ratio_per_channel() {

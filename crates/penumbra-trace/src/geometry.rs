@@ -198,6 +198,23 @@ impl SceneGeometry {
         }) || self.accel.occluded(ray)
     }
 
+    /// The first UV set at barycentrics (b1, b2) of `triangle` (the
+    /// barycentrics themselves on a mesh without UVs): all that texture
+    /// lookups on a light sample need, without a whole [`SurfaceHit`].
+    pub fn uv_at(&self, scene: &Scene, triangle: u32, b1: f32, b2: f32) -> Vec2 {
+        let src = self.sources[triangle as usize];
+        let mesh = &scene.meshes[scene.instances[src.instance as usize].mesh];
+        match &mesh.uv0 {
+            Some(uv) => {
+                let idx = mesh.indices[src.local as usize];
+                uv[idx[0] as usize] * (1.0 - b1 - b2)
+                    + uv[idx[1] as usize] * b1
+                    + uv[idx[2] as usize] * b2
+            }
+            None => Vec2::new(b1, b2),
+        }
+    }
+
     fn surface_at(&self, scene: &Scene, hit: &Hit) -> SurfaceHit {
         let src = self.sources[hit.triangle as usize];
         let inst_data = &self.instances[src.instance as usize];
@@ -219,12 +236,7 @@ impl SceneGeometry {
         } else if ns.dot(ng) < 0.0 {
             ns = -ns;
         }
-        let uv = match &mesh.uv0 {
-            Some(uv) => {
-                uv[idx[0] as usize] * b0 + uv[idx[1] as usize] * b1 + uv[idx[2] as usize] * b2
-            }
-            None => Vec2::new(b1, b2),
-        };
+        let uv = self.uv_at(scene, hit.triangle, b1, b2);
         let color = mesh.colors.as_deref().map_or(Vec3::ONE, interp3);
         // Interpolating the world vertices is more accurate than o + t d.
         let [a, b, c] = self.triangles[hit.triangle as usize];

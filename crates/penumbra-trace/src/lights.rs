@@ -19,9 +19,8 @@ enum Entry {
     /// Emissive triangle (index in [`SceneGeometry`]).
     Triangle {
         triangle: u32,
-        radiance: Rgb,
-        /// The material's emission texture, multiplying `radiance`.
-        texture: Option<usize>,
+        /// Its material, whose emission (with its texture) is the radiance.
+        material: usize,
         double_sided: bool,
         /// Area and unit front normal, computed once.
         area: f32,
@@ -122,8 +121,7 @@ impl LightSampler {
             let normal = geometry.front_normal_scaled(t).normalize_or_zero();
             entries.push(Entry::Triangle {
                 triangle: t,
-                radiance: m.emission,
-                texture: m.emission_texture,
+                material: geometry.material_of(t),
                 double_sided: m.double_sided,
                 area,
                 normal,
@@ -258,23 +256,23 @@ impl LightSampler {
             Entry::Environment => self.environment.sample_li(u),
             Entry::Triangle {
                 triangle,
-                radiance,
-                texture,
+                material,
                 double_sided,
                 area,
                 normal: n,
             } => {
                 let [a, b, c] = geometry.triangles[triangle as usize];
                 let bary = square_to_triangle(u);
-                // The emission texture at the sampled point: the triangle
+                // The emission (texture) at the sampled point: the triangle
                 // is picked by its mean, the point uniformly by area, and
                 // the estimate divides by that density, so it stays unbiased.
-                let radiance = match texture {
-                    Some(tex) => {
-                        let hit = geometry.surface_point(scene, triangle, bary.x, bary.y);
-                        radiance * scene.textures[tex].sample(hit.uv)
+                let m = &scene.materials[material];
+                let radiance = match m.emission_texture {
+                    Some(_) => {
+                        let uv = geometry.uv_at(scene, triangle, bary.x, bary.y);
+                        m.emission_at(&scene.textures, uv)
                     }
-                    None => radiance,
+                    None => m.emission,
                 };
                 let q = a * (1.0 - bary.x - bary.y) + b * bary.x + c * bary.y;
                 let d = q - p;
@@ -366,8 +364,7 @@ fn mean_texture_over_triangle(
         for j in 0..n {
             let u = [(i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / n as f32];
             let b = square_to_triangle(u);
-            let hit = geometry.surface_point(scene, triangle, b.x, b.y);
-            sum += scene.textures[tex].sample(hit.uv);
+            sum += scene.textures[tex].sample(geometry.uv_at(scene, triangle, b.x, b.y));
         }
     }
     sum / (n * n) as f32

@@ -204,7 +204,10 @@ pub fn render(scene: &Scene, settings: &RenderSettings, options: &RenderOptions)
                     == (crop.x.start, crop.y.start, cw, ch),
                 "the resumed film covers another window"
             );
-            assert!(samples.contains(&r.next) || r.next == samples.end);
+            assert!(
+                (samples.start..=samples.end).contains(&r.next),
+                "the resumed film is past the range"
+            );
             (r.film.clone(), r.next)
         }
         None => (

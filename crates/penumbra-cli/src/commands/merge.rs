@@ -4,8 +4,8 @@ use crate::commands::partial::read_parts;
 use crate::commands::render::ToneArg;
 use anyhow::{Context, Result};
 use clap::Args;
-use penumbra_image::{Exposure, ToneMapping, merge_parts, write_image};
-use std::path::PathBuf;
+use penumbra_image::{Exposure, ToneMapping, ToneOperator, merge_parts, write_image};
+use std::path::{Path, PathBuf};
 
 #[derive(Args, Debug)]
 pub struct MergeArgs {
@@ -27,15 +27,27 @@ pub struct MergeArgs {
 
 pub fn run(args: MergeArgs) -> Result<()> {
     penumbra_image::check_output_path(&args.output)?;
-    let parts = read_parts(&args.parts)?;
+    let tm = (args.exposure, args.tonemap.operator());
+    merge_files(&args.parts, &args.output, tm)
+}
+
+/// Reads the partial films `parts`, checks that they make one render, adds
+/// them, writes the image to `output` (exposure and operator for a PNG) and
+/// says so. `penumbra merge` and `penumbra farm merge` both end here.
+pub fn merge_files(
+    parts: &[PathBuf],
+    output: &Path,
+    (exposure, operator): (Exposure, ToneOperator),
+) -> Result<()> {
+    let parts = read_parts(parts)?;
     let merged = merge_parts(&parts)?;
     let image = merged.film.mean();
     let tm = ToneMapping {
-        exposure_ev: args.exposure.resolve(&image, None),
-        operator: args.tonemap.operator(),
+        exposure_ev: exposure.resolve(&image, None),
+        operator,
     };
-    write_image(&args.output, &image, &[], &tm)
-        .with_context(|| format!("writing {}", args.output.display()))?;
+    write_image(output, &image, &[], &tm)
+        .with_context(|| format!("writing {}", output.display()))?;
     let rejected = merged.film.rejected_samples();
     eprintln!(
         "penumbra: merged {} parts: {}x{} at {} spp{} -> {}",
@@ -48,7 +60,7 @@ pub fn run(args: MergeArgs) -> Result<()> {
         } else {
             String::new()
         },
-        args.output.display()
+        output.display()
     );
     Ok(())
 }

@@ -4,7 +4,10 @@
 
 use anyhow::{Context, Result, bail};
 use clap::Args;
-use penumbra_image::{Film, PartialFilm, parse_range, read_partial_film, write_partial_film};
+use penumbra_image::{
+    Film, PartialFilm, key_differences, parse_range, read_partial_film, render_key,
+    write_partial_film,
+};
 use penumbra_scene::{RenderSettings, Scene, fingerprint};
 use penumbra_trace::{Crop, Resume};
 use std::collections::BTreeMap;
@@ -171,14 +174,7 @@ impl PartArgs {
         if let Some(odd) = identity.differences(&part).first() {
             return Err(mismatch(odd.clone()));
         }
-        let film = &part.film;
-        if (
-            film.x0(),
-            film.y0(),
-            film.x0() + film.width(),
-            film.y0() + film.height(),
-        ) != (window.x.start, window.y.start, window.x.end, window.y.end)
-        {
+        if part.window() != (window.x.clone(), window.y.clone()) {
             return Err(mismatch(format!("covers {}", part.extent())));
         }
         if part.samples.start != identity.samples.start || part.samples.end > identity.samples.end {
@@ -242,28 +238,17 @@ impl RenderIdentity {
 
     /// How `part` differs from this render (image size, spp, settings), in words.
     pub fn differences(&self, part: &PartialFilm) -> Vec<String> {
-        let mut out = Vec::new();
-        if (part.image_width, part.image_height) != (self.width, self.height) {
-            out.push(format!(
-                "is for a {}x{} image, not {}x{}",
-                part.image_width, part.image_height, self.width, self.height
-            ));
-        }
-        if part.spp != self.spp {
-            out.push(format!("is for spp {}, not {}", part.spp, self.spp));
-        }
-        for (k, v) in &self.settings {
-            let theirs = part.identity.get(k).map_or("nothing", String::as_str);
-            if theirs != v {
-                let what = if k == "scene" {
+        let ours = render_key((self.width, self.height), self.spp, &self.settings);
+        key_differences(&ours, &part.render_key())
+            .into_iter()
+            .map(|(k, v, theirs)| {
+                if k == "scene" {
                     format!("was rendered from another scene ({theirs}, this one is {v})")
                 } else {
                     format!("has {k} = {theirs}, not {v}")
-                };
-                out.push(what);
-            }
-        }
-        out
+                }
+            })
+            .collect()
     }
 
     /// The partial film of `film`, holding `samples`.

@@ -253,10 +253,6 @@ pub fn run(args: RenderArgs) -> Result<()> {
     )?;
     args.parts.check(&settings, &args.output, args.aovs)?;
 
-    let tm = ToneMapping {
-        exposure_ev: 0.0,
-        operator: args.tonemap.operator(),
-    };
     if args.engine == Engine::Raster {
         let p = &args.parts;
         if p.writes_partial()
@@ -268,7 +264,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
                 "--samples, --crop, --checkpoint, --resume and --target-relmse apply to --engine trace only (a raster frame is one pass)"
             );
         }
-        return render_raster(&args, &scene, &settings, &tm);
+        return render_raster(&args, &scene, &settings);
     }
     if args.msaa != 1 {
         bail!("--msaa applies to --engine raster only");
@@ -346,7 +342,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
     } else {
         let aovs: Vec<(&str, &penumbra_image::Image)> =
             out.aovs.iter().map(|(n, i)| (n.as_str(), i)).collect();
-        let tm = exposed(&tm, &args, &out.image, Some(&out.surface));
+        let tm = tone_mapping(&args, &out.image, Some(&out.surface));
         write_image(&args.output, &out.image, &aovs, &tm)
             .with_context(|| format!("writing {}", args.output.display()))?;
     }
@@ -380,10 +376,10 @@ pub fn run(args: RenderArgs) -> Result<()> {
     Ok(())
 }
 
-/// `tm` with `--exposure` resolved for `image`; says which exposure
-/// `auto` chose when the output is a PNG.
-fn exposed(
-    tm: &ToneMapping,
+/// `--tonemap` with `--exposure` resolved for `image` (metering the
+/// `metered` pixels); says which exposure `auto` chose when the output is a
+/// PNG.
+fn tone_mapping(
     args: &RenderArgs,
     image: &penumbra_image::Image,
     metered: Option<&[bool]>,
@@ -396,7 +392,7 @@ fn exposed(
     }
     ToneMapping {
         exposure_ev: ev,
-        ..*tm
+        operator: args.tonemap.operator(),
     }
 }
 
@@ -423,12 +419,7 @@ pub fn parse_environment(s: &str) -> Result<EnvironmentChoice, String> {
 
 /// `--engine raster`: the scene's camera and film size, the same output
 /// files and tone mapping as the CPU path.
-fn render_raster(
-    args: &RenderArgs,
-    scene: &Scene,
-    settings: &RenderSettings,
-    tm: &ToneMapping,
-) -> Result<()> {
+fn render_raster(args: &RenderArgs, scene: &Scene, settings: &RenderSettings) -> Result<()> {
     let ao = args.ao.settings()?;
     if args.aovs && args.bake.is_empty() && !ao.enabled() {
         bail!(
@@ -481,7 +472,7 @@ fn render_raster(
         &args.output,
         &out.image,
         &aovs,
-        &exposed(tm, args, &out.image, None),
+        &tone_mapping(args, &out.image, None),
     )
     .with_context(|| format!("writing {}", args.output.display()))?;
     let gpu: String = penumbra_raster::timing::by_kind(&out.passes)

@@ -530,16 +530,15 @@ impl Loader<'_> {
             .clone()
             .or_else(|| self.root.nodes.get(n).and_then(|node| node.name.clone()))
             .unwrap_or_else(|| format!("cameras[{c}]"));
-        self.scene.cameras.push(crate::NamedCamera {
-            name: name.clone(),
+        let named = crate::NamedCamera {
+            name,
             camera,
             aspect,
-        });
+        };
         if self.scene.camera.is_none() {
-            self.scene
-                .use_camera(&(self.scene.cameras.len() - 1).to_string())
-                .map_err(|e| self.err(cpath, e))?;
+            self.scene.set_camera(&named);
         }
+        self.scene.cameras.push(named);
         Ok(())
     }
 

@@ -188,10 +188,7 @@ impl TraceContext<'_> {
         if !material.is_emissive() {
             return Rgb::ZERO;
         }
-        let le = match material.emission_texture {
-            Some(t) => material.emission * self.scene.textures[t].sample(hit.uv),
-            None => material.emission,
-        };
+        let le = material.emission_at(&self.scene.textures, hit.uv);
         crate::lights::emitted(le, material.double_sided, hit.ng, wo)
     }
 

@@ -188,9 +188,7 @@ fn normalise(p: &Path) -> PathBuf {
 
 /// Writes a text file (scripts, manifests, the job file) atomically.
 pub fn write_file(path: &Path, text: &str) -> Result<()> {
-    let tmp = path.with_extension("tmp-write");
-    std::fs::write(&tmp, text).with_context(|| format!("writing {}", tmp.display()))?;
-    std::fs::rename(&tmp, path).with_context(|| format!("writing {}", path.display()))
+    Ok(penumbra_image::write_atomic(path, text.as_bytes())?)
 }
 
 #[cfg(test)]

@@ -2,10 +2,10 @@
 //! of the parts.
 
 use super::job::{FarmJob, checkpoint_file, part_file};
-use crate::commands::partial::read_parts;
+use crate::commands::merge::merge_files;
 use crate::commands::render;
 use anyhow::{Context, Result, bail};
-use penumbra_image::{Exposure, ToneMapping, merge_parts, read_partial_film, write_image};
+use penumbra_image::{Exposure, ToneOperator, read_partial_film};
 use std::path::{Path, PathBuf};
 
 /// Environment variables that carry a task's index: Slurm job arrays and
@@ -81,7 +81,9 @@ pub fn run_task(dir: &Path, index: Option<u32>) -> Result<()> {
         return Ok(());
     }
     let checkpoint = checkpoint_file(dir, i);
-    let resume = checkpoint.exists() && read_partial_film(&checkpoint).is_ok();
+    // Checkpoints are replaced atomically, so one that exists is whole;
+    // `render --resume` checks that it belongs to this task.
+    let resume = checkpoint.exists();
     let args = task_render_args(dir, &job, i, resume);
     eprintln!("penumbra: task {i}: penumbra {}", args.join(" "));
     render::run_argv(&args).with_context(|| format!("task {i}"))?;
@@ -111,25 +113,11 @@ pub fn run_merge(dir: &Path) -> Result<()> {
         );
     }
     let files: Vec<PathBuf> = (0..job.tasks).map(|i| part_file(dir, i)).collect();
-    let parts = read_parts(&files)?;
-    let merged = merge_parts(&parts)?;
-    let output = dir.join(&job.output);
-    let image = merged.film.mean();
-    let tm = ToneMapping {
-        exposure_ev: Exposure::Auto.resolve(&image, None),
-        ..ToneMapping::default()
-    };
-    write_image(&output, &image, &[], &tm)
-        .with_context(|| format!("writing {}", output.display()))?;
-    eprintln!(
-        "penumbra: merged {} parts: {}x{} at {} spp -> {}",
-        job.tasks,
-        merged.image_width,
-        merged.image_height,
-        merged.spp,
-        output.display()
-    );
-    Ok(())
+    merge_files(
+        &files,
+        &dir.join(&job.output),
+        (Exposure::Auto, ToneOperator::Filmic),
+    )
 }
 
 /// Tasks whose part file does not exist.

@@ -21,7 +21,8 @@
 //! Still ignored, with ONE warning per material listing it: alpha modes,
 //! `normalTexture`, `occlusionTexture`,
 //! `transmissionTexture`, `specularTexture`, `specularColorTexture`, other
-//! TEXCOORD sets, texture-transform and other extensions; factors outside
+//! TEXCOORD sets and other extensions (`KHR_texture_transform` is applied);
+//! factors outside
 //! [0, 1] are clamped (noted).
 
 use super::Loader;
@@ -54,10 +55,20 @@ const READ_MATERIAL_EXTENSIONS: &[&str] = &[
 /// columns (cos r, −sin r) and (sin r, cos r): `u' = u cos r + v sin r`,
 /// `v' = −u sin r + v cos r`. (Read as column-major GLSL, the extension's
 /// own listing gives the transpose; Khronos' TextureTransformTest, whose red
-/// marker shows a rotation the wrong way, agrees with this one, as do the
-/// sample viewers.) Other extensions on the textureInfo, a `texCoord` override
-/// and malformed values are noted (and ignored).
-fn texture_transform(info: &::gltf::json::Value, what: &str, notes: &mut Vec<String>) -> Affine2 {
+/// marker shows a rotation the wrong way.) A TEXCOORD set other than 0
+/// (`tex_coord`, or the extension's `texCoord` override), other extensions
+/// on the textureInfo and malformed values are noted (and ignored).
+fn texture_transform(
+    info: &::gltf::json::Value,
+    tex_coord: u32,
+    what: &str,
+    notes: &mut Vec<String>,
+) -> Affine2 {
+    if tex_coord != 0 {
+        notes.push(format!(
+            "{what} uses TEXCOORD_{tex_coord} (TEXCOORD_0 used)"
+        ));
+    }
     let Some(exts) = info["extensions"].as_object() else {
         return Affine2::IDENTITY;
     };
@@ -241,14 +252,9 @@ impl Loader<'_> {
         // emission it has nothing to multiply.
         let emission_texture = match &m.emissive_texture {
             Some(info) if emission.max_element() > 0.0 => {
-                if info.tex_coord != 0 {
-                    notes.push(format!(
-                        "emissiveTexture uses TEXCOORD_{} (TEXCOORD_0 used)",
-                        info.tex_coord
-                    ));
-                }
+                let info_json = &raw["emissiveTexture"];
                 let transform =
-                    texture_transform(&raw["emissiveTexture"], "emissiveTexture", &mut notes);
+                    texture_transform(info_json, info.tex_coord, "emissiveTexture", &mut notes);
                 Some(self.texture(info.index.value(), transform, &mut notes)?)
             }
             _ => None,
@@ -263,14 +269,9 @@ impl Loader<'_> {
 
         let albedo_texture = match &pbr.base_color_texture {
             Some(info) => {
-                if info.tex_coord != 0 {
-                    notes.push(format!(
-                        "baseColorTexture uses TEXCOORD_{} (TEXCOORD_0 used)",
-                        info.tex_coord
-                    ));
-                }
                 let info_json = &raw["pbrMetallicRoughness"]["baseColorTexture"];
-                let transform = texture_transform(info_json, "baseColorTexture", &mut notes);
+                let transform =
+                    texture_transform(info_json, info.tex_coord, "baseColorTexture", &mut notes);
                 Some(self.texture(info.index.value(), transform, &mut notes)?)
             }
             None => None,
@@ -280,15 +281,13 @@ impl Loader<'_> {
         // B): only where the model has a specular part for it to modulate.
         let metallic_roughness_texture = match &pbr.metallic_roughness_texture {
             Some(info) if !lambertian => {
-                if info.tex_coord != 0 {
-                    notes.push(format!(
-                        "metallicRoughnessTexture uses TEXCOORD_{} (TEXCOORD_0 used)",
-                        info.tex_coord
-                    ));
-                }
                 let info_json = &raw["pbrMetallicRoughness"]["metallicRoughnessTexture"];
-                let transform =
-                    texture_transform(info_json, "metallicRoughnessTexture", &mut notes);
+                let transform = texture_transform(
+                    info_json,
+                    info.tex_coord,
+                    "metallicRoughnessTexture",
+                    &mut notes,
+                );
                 Some(self.data_texture(info.index.value(), transform, &mut notes)?)
             }
             _ => None,
@@ -474,7 +473,7 @@ mod tests {
         )
         .unwrap();
         let mut notes = Vec::new();
-        let t = texture_transform(&json, "baseColorTexture", &mut notes);
+        let t = texture_transform(&json, 0, "baseColorTexture", &mut notes);
         assert!(notes.is_empty(), "{notes:?}");
         // (u, v) = (1, 0): scaled (2, 0); rotated by 90° with
         // u' = u cos r + v sin r, v' = −u sin r + v cos r: (0, −2); offset: (0.5, −1.75).
@@ -486,14 +485,17 @@ mod tests {
         let plain: ::gltf::json::Value =
             ::gltf::json::deserialize::from_str(r#"{"index": 0}"#).unwrap();
         assert_eq!(
-            texture_transform(&plain, "x", &mut notes),
+            texture_transform(&plain, 0, "x", &mut notes),
             Affine2::IDENTITY
         );
         let bad: ::gltf::json::Value = ::gltf::json::deserialize::from_str(
             r#"{"extensions": {"KHR_texture_transform": {"scale": [1]}, "EXT_other": {}}}"#,
         )
         .unwrap();
-        assert_eq!(texture_transform(&bad, "x", &mut notes), Affine2::IDENTITY);
+        assert_eq!(
+            texture_transform(&bad, 0, "x", &mut notes),
+            Affine2::IDENTITY
+        );
         assert_eq!(notes.len(), 2, "{notes:?}");
     }
 }
