@@ -238,6 +238,65 @@ pub struct GpuInstance {
     /// 1: the emitter of an analytic area light, which is a light and not
     /// a surface (the `ao` integrator gives it kA = 0).
     pub light_shape: u32,
+    /// Index of the mesh's first vertex in the texture-coordinate (UV set
+    /// 0) and vertex-colour buffers; [`NO_VERTEX_DATA`]: the mesh has none.
+    pub first_uv: u32,
+    pub first_color: u32,
+    pub _pad0: u32,
+    pub _pad1: u32,
+}
+
+/// [`GpuInstance::first_uv`] / [`GpuInstance::first_color`] of a mesh
+/// without that attribute; [`GpuMaterialTextures`] without that texture.
+pub const NO_VERTEX_DATA: u32 = u32::MAX;
+/// A texture slot of [`GpuMaterialTextures`] that holds none.
+pub const NO_TEXTURE: u32 = u32::MAX;
+
+/// One texture in the texel buffer (WGSL `GpuTexture`): its mip chain,
+/// level 0 first, each level row-major from the top row (glTF's v = 0).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuTexture {
+    /// KHR_texture_transform: u' = u_row · (u, v, 1), v' = v_row · (u, v, 1).
+    pub u_row: [f32; 4],
+    pub v_row: [f32; 4],
+    /// Size of level 0 (level l: max(1, size >> l)).
+    pub width: u32,
+    pub height: u32,
+    pub levels: u32,
+    /// Index in the texel buffer of level 0's first texel.
+    pub first: u32,
+    /// Wrap modes along u and v: [`WRAP_REPEAT`], [`WRAP_CLAMP`], [`WRAP_MIRROR`].
+    pub wrap_u: u32,
+    pub wrap_v: u32,
+    pub _pad0: u32,
+    pub _pad1: u32,
+}
+
+pub const WRAP_REPEAT: u32 = 0;
+pub const WRAP_CLAMP: u32 = 1;
+pub const WRAP_MIRROR: u32 = 2;
+
+/// The textures of one material (WGSL `GpuMaterialTextures`), indices into
+/// the texture table or [`NO_TEXTURE`].
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct GpuMaterialTextures {
+    pub albedo: u32,
+    pub metallic_roughness: u32,
+    pub emission: u32,
+    pub _pad0: u32,
+}
+
+impl Default for GpuMaterialTextures {
+    fn default() -> Self {
+        Self {
+            albedo: NO_TEXTURE,
+            metallic_roughness: NO_TEXTURE,
+            emission: NO_TEXTURE,
+            _pad0: 0,
+        }
+    }
 }
 
 impl GpuInstance {
@@ -249,6 +308,10 @@ impl GpuInstance {
             has_normals: has_normals as u32,
             flip_winding: (Mat3::from_mat4(transform).determinant() < 0.0) as u32,
             light_shape: 0,
+            first_uv: NO_VERTEX_DATA,
+            first_color: NO_VERTEX_DATA,
+            _pad0: 0,
+            _pad1: 0,
         }
     }
 }
@@ -603,8 +666,24 @@ pub fn gpu_structs() -> Vec<HostLayout> {
                 material,
                 has_normals,
                 flip_winding,
-                light_shape
+                light_shape,
+                first_uv,
+                first_color,
+                _pad0,
+                _pad1
             ]
+        ),
+        host_layout!(
+            GpuTexture,
+            "GpuTexture",
+            [
+                u_row, v_row, width, height, levels, first, wrap_u, wrap_v, _pad0, _pad1
+            ]
+        ),
+        host_layout!(
+            GpuMaterialTextures,
+            "GpuMaterialTextures",
+            [albedo, metallic_roughness, emission, _pad0]
         ),
         host_layout!(
             GpuShadow,

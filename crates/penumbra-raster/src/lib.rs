@@ -28,6 +28,7 @@ mod scene_gpu;
 pub mod shaders;
 pub mod shadow_map;
 mod shadow_volume;
+pub mod textures;
 pub mod timing;
 pub mod topology;
 

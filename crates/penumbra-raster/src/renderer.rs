@@ -439,6 +439,11 @@ impl ForwardRenderer {
                 storage_entry(KULLA_CONTY_BINDING, fragment, true),
                 storage_entry(10, fragment, true),
                 uniform_entry(11, fragment),
+                storage_entry(25, wgpu::ShaderStages::VERTEX, true),
+                storage_entry(26, wgpu::ShaderStages::VERTEX, true),
+                storage_entry(27, fragment, true),
+                storage_entry(28, fragment, true),
+                storage_entry(29, fragment, true),
                 env[0],
                 env[1],
                 env[2],
@@ -970,6 +975,11 @@ impl ForwardRenderer {
                 env21,
                 env22,
                 whole(ENVIRONMENT_MATERIALS_BINDING, &gpu.env_materials),
+                whole(25, &gpu.vertex_uvs),
+                whole(26, &gpu.vertex_colors),
+                whole(27, &gpu.textures),
+                whole(28, &gpu.texels),
+                whole(29, &gpu.material_textures),
                 wgpu::BindGroupEntry {
                     binding: SCREEN_AO_BINDING,
                     resource: wgpu::BindingResource::TextureView(

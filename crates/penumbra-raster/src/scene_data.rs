@@ -43,24 +43,9 @@ impl SceneData {
         let mut warnings = Vec::new();
         let mut materials = Vec::with_capacity(scene.materials.len());
         for m in &scene.materials {
-            let g = GpuMaterial::from_bsdf(&m.bsdf, m.emission, m.double_sided);
-            if m.albedo_texture.is_some()
-                || m.metallic_roughness_texture.is_some()
-                || m.emission_texture.is_some()
-            {
-                warnings.push(format!(
-                    "raster: material '{}': textures are ignored (untextured factors used)",
-                    m.name
-                ));
-            }
-            materials.push(g);
+            materials.push(GpuMaterial::from_bsdf(&m.bsdf, m.emission, m.double_sided));
         }
-        let coloured = scene.meshes.iter().filter(|m| m.colors.is_some()).count();
-        if coloured > 0 {
-            warnings.push(format!(
-                "raster: {coloured} mesh(es) with vertex colours (COLOR_0): ignored (the base colour used)"
-            ));
-        }
+        warnings.extend(texture_warnings(scene));
         if materials.is_empty() {
             // Storage bindings cannot be empty.
             materials.push(GpuMaterial::default());
@@ -135,6 +120,48 @@ impl SceneData {
             warnings,
         }
     }
+}
+
+/// What the raster path does not texture as the CPU does: tinted
+/// conductors (the CPU solves for a new n + iκ per texel), and textured
+/// meshes without texture coordinates (the CPU reads the texture at the
+/// hit's barycentrics; the raster path at (0, 0)).
+fn texture_warnings(scene: &Scene) -> Vec<String> {
+    use penumbra_shading::bsdf::Bsdf;
+    let mut out = Vec::new();
+    let textured = |m: &Material| {
+        m.albedo_texture.is_some()
+            || m.metallic_roughness_texture.is_some()
+            || m.emission_texture.is_some()
+    };
+    for (i, m) in scene.materials.iter().enumerate() {
+        let coloured = scene
+            .meshes
+            .iter()
+            .any(|mesh| mesh.material == i && mesh.colors.is_some());
+        if matches!(m.bsdf, Bsdf::Conductor(_) | Bsdf::RoughConductor(_))
+            && (m.albedo_texture.is_some() || coloured)
+        {
+            out.push(format!(
+                "raster: conductor '{}': its texture and vertex colours are ignored (untinted n + iκ)",
+                m.name
+            ));
+        }
+    }
+    let bare = scene
+        .instances
+        .iter()
+        .filter(|inst| {
+            let mesh = &scene.meshes[inst.mesh];
+            mesh.uv0.is_none() && textured(&scene.materials[inst.material.unwrap_or(mesh.material)])
+        })
+        .count();
+    if bare > 0 {
+        out.push(format!(
+            "raster: {bare} textured instance(s) without texture coordinates read texel (0, 0)"
+        ));
+    }
+    out
 }
 
 /// What the environment light approximates for `scene` (see

@@ -4,8 +4,9 @@
 //! slots).
 
 use crate::camera::gpu_camera;
-use crate::gpu::{GpuInstance, GpuLight, GpuPassParams, PASS_PARAMS_STRIDE};
+use crate::gpu::{GpuInstance, GpuLight, GpuPassParams, NO_VERTEX_DATA, PASS_PARAMS_STRIDE};
 use crate::scene_data::SceneData;
+use crate::textures::TextureTable;
 use glam::Vec3;
 use penumbra_scene::Scene;
 use penumbra_scene::camera::Camera;
@@ -178,6 +179,15 @@ pub(crate) struct SceneGpu {
     /// Per material: what the environment light needs of it (see
     /// `SceneData::env_materials`).
     pub env_materials: wgpu::Buffer,
+    /// Texture coordinates (UV set 0) and colours (rgb, 1) of every mesh
+    /// that has them, at `GpuInstance::first_uv` / `first_color`.
+    pub vertex_uvs: wgpu::Buffer,
+    pub vertex_colors: wgpu::Buffer,
+    /// The texture table, its texels and each material's textures
+    /// ([`crate::textures::TextureTable`]).
+    pub textures: wgpu::Buffer,
+    pub texels: wgpu::Buffer,
+    pub material_textures: wgpu::Buffer,
     /// Per mesh (the scene's, then the area lights' emitters); `None` for
     /// meshes without triangles.
     pub meshes: Vec<Option<GpuMesh>>,
@@ -209,7 +219,11 @@ impl SceneGpu {
         height: u32,
         unwelded: bool,
     ) -> Self {
-        let data = SceneData::from_scene(scene);
+        let mut data = SceneData::from_scene(scene);
+        let table = TextureTable::new(scene, device.limits().max_storage_buffer_binding_size);
+        data.warnings.extend(table.warnings.iter().cloned());
+        let mut material_textures = table.materials.clone();
+        material_textures.resize(data.materials.len().max(1), Default::default());
         let bounds = scene
             .bounds()
             .unwrap_or((Vec3::splat(-1.0), Vec3::splat(1.0)));
@@ -224,11 +238,18 @@ impl SceneGpu {
         if lights.is_empty() {
             lights.push(GpuLight::default());
         }
+        // Per mesh: first vertex in the UV and colour buffers.
+        let mut uvs: Vec<[f32; 2]> = Vec::new();
+        let mut colors: Vec<[f32; 4]> = Vec::new();
+        let mut first_uv = Vec::new();
+        let mut first_color = Vec::new();
         let meshes = scene
             .meshes
             .iter()
             .chain(&data.emitters)
             .map(|m| {
+                first_uv.push(NO_VERTEX_DATA);
+                first_color.push(NO_VERTEX_DATA);
                 if m.indices.is_empty() || m.positions.is_empty() {
                     return None;
                 }
@@ -239,6 +260,14 @@ impl SceneGpu {
                 } else {
                     m
                 };
+                if let Some(uv) = m.uv0.as_ref().filter(|uv| uv.len() == m.positions.len()) {
+                    *first_uv.last_mut().unwrap() = uvs.len() as u32;
+                    uvs.extend(uv.iter().map(|t| t.to_array()));
+                }
+                if let Some(c) = m.colors.as_ref().filter(|c| c.len() == m.positions.len()) {
+                    *first_color.last_mut().unwrap() = colors.len() as u32;
+                    colors.extend(c.iter().map(|c| c.extend(1.0).to_array()));
+                }
                 let vertex = wgpu::BufferUsages::VERTEX;
                 let flat = |v: &[Vec3]| v.iter().map(|p| p.to_array()).collect::<Vec<[f32; 3]>>();
                 Some(GpuMesh {
@@ -268,6 +297,22 @@ impl SceneGpu {
             .filter(|(_, inst)| meshes[inst.mesh].is_some())
             .map(|(i, inst)| (i as u32, inst.mesh))
             .collect();
+        for (i, inst) in scene.instances.iter().enumerate() {
+            instances[i].first_uv = first_uv[inst.mesh];
+            instances[i].first_color = first_color[inst.mesh];
+        }
+        for k in 0..data.emitters.len() {
+            let i = scene.instances.len() + k;
+            instances[i].first_uv = first_uv[scene.meshes.len() + k];
+            instances[i].first_color = first_color[scene.meshes.len() + k];
+        }
+        // Storage bindings cannot be empty.
+        if uvs.is_empty() {
+            uvs.push([0.0; 2]);
+        }
+        if colors.is_empty() {
+            colors.push([1.0; 4]);
+        }
         let casters = draws.len();
         let (first_instance, first_mesh) = (scene.instances.len(), scene.meshes.len());
         draws.extend(
@@ -300,6 +345,31 @@ impl SceneGpu {
                 device,
                 "environment materials",
                 bytemuck::cast_slice(&data.env_materials),
+                storage,
+            ),
+            vertex_uvs: buffer_init(device, "vertex uvs", bytemuck::cast_slice(&uvs), storage),
+            vertex_colors: buffer_init(
+                device,
+                "vertex colours",
+                bytemuck::cast_slice(&colors),
+                storage,
+            ),
+            textures: buffer_init(
+                device,
+                "textures",
+                bytemuck::cast_slice(&table.textures),
+                storage,
+            ),
+            texels: buffer_init(
+                device,
+                "texels",
+                bytemuck::cast_slice(&table.texels),
+                storage,
+            ),
+            material_textures: buffer_init(
+                device,
+                "material textures",
+                bytemuck::cast_slice(&material_textures),
                 storage,
             ),
             meshes,
@@ -369,9 +439,14 @@ fn unweld(mesh: &penumbra_scene::Mesh) -> penumbra_scene::Mesh {
         name: mesh.name.clone(),
         positions: corners(&mesh.positions),
         normals: mesh.normals.as_deref().map(corners),
-        uv0: None,
+        uv0: mesh.uv0.as_deref().map(|uv| {
+            mesh.indices
+                .iter()
+                .flat_map(|t| t.map(|i| uv[i as usize]))
+                .collect()
+        }),
         uv1: None,
-        colors: None,
+        colors: mesh.colors.as_deref().map(corners),
         indices: (0..mesh.indices.len() as u32)
             .map(|t| [3 * t, 3 * t + 1, 3 * t + 2])
             .collect(),

@@ -34,6 +34,9 @@ pub const SCENE_WGSL: &str = include_str!("shaders/scene.wgsl");
 /// map), without the library.
 pub const FORWARD_WGSL: &str = include_str!("shaders/forward.wgsl");
 
+/// Textures and vertex attributes of the geometry passes (bindings 25–29).
+pub const TEXTURES_WGSL: &str = include_str!("shaders/textures.wgsl");
+
 /// Baked maps looked up by the geometry passes (group 2), and the pass that
 /// writes the looked-up values as AOVs.
 pub const LIGHTMAP_WGSL: &str = include_str!("passes/lightmap/lightmap.wgsl");
@@ -59,11 +62,11 @@ pub const SHADOW_VOLUME_DRAW_WGSL: &str = include_str!("shaders/shadow_volume_dr
 /// Planar projected shadows (receiver marking, projected occluders).
 pub const PLANAR_SHADOW_WGSL: &str = include_str!("shaders/planar_shadow.wgsl");
 
-/// The complete forward shader module: library + structs + pass + baked
-/// maps + environment light.
+/// The complete forward shader module: library + structs + pass + textures
+/// + baked maps + environment light.
 pub fn forward_source() -> String {
     format!(
-        "{}\n{SCENE_WGSL}\n{FORWARD_WGSL}\n{LIGHTMAP_WGSL}\n{ENVIRONMENT_WGSL}",
+        "{}\n{SCENE_WGSL}\n{FORWARD_WGSL}\n{TEXTURES_WGSL}\n{LIGHTMAP_WGSL}\n{ENVIRONMENT_WGSL}",
         library()
     )
 }

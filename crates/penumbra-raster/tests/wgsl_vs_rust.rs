@@ -11,10 +11,11 @@ mod common;
 
 use common::{BrdfCase, LightCase, LightIncidence, close};
 use glam::Vec3;
-use penumbra_raster::gpu::{GpuLight, GpuMaterial, MODEL_DELTA, MODEL_LAMBERT};
+use penumbra_raster::GpuContext;
+use penumbra_raster::gpu::{GpuEnvMaterial, GpuLight, GpuMaterial, MODEL_DELTA, MODEL_LAMBERT};
 use penumbra_raster::material_tables::{KULLA_CONTY_BINDING, kulla_conty_table};
-use penumbra_raster::shaders::{compute_pipeline, with_library};
-use penumbra_raster::{GpuContext, map_read};
+use penumbra_raster::passes::environment::env_material;
+use penumbra_raster::shaders::with_library;
 use penumbra_shading::bsdf::{
     Bsdf, CONDUCTOR_PRESETS, Conductor, DELTA_ALPHA, Dielectric, FresnelModel, Lambert, MIN_ALPHA,
     MetallicRoughness, Mirror, PhongBlinn, PhongVariant, RoughConductor, RoughDielectric,
@@ -24,7 +25,6 @@ use penumbra_shading::light::{
     AreaLight, DirectionalLight, FarField, Light, PointLight, Shape, SpotLight,
 };
 use penumbra_shading::stats::TestRng;
-use wgpu::util::DeviceExt;
 
 const CASES: usize = 20_000;
 
@@ -46,9 +46,9 @@ fn colour(rng: &mut TestRng, scale: f32) -> Vec3 {
     Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * scale
 }
 
-/// Runs `entry` over `input` (binding `input_binding`, output at the next
-/// binding; with `bind_table`, the Kulla–Conty table at binding 8) and
-/// returns `count` outputs.
+/// Runs `entry` of the test kernels over `input` (binding `input_binding`,
+/// output at the next binding; with `bind_table`, the Kulla–Conty table at
+/// binding 8) and returns `count` outputs.
 fn dispatch<T: bytemuck::Pod>(
     ctx: &GpuContext,
     bind_table: bool,
@@ -57,63 +57,20 @@ fn dispatch<T: bytemuck::Pod>(
     count: usize,
     input_binding: u32,
 ) -> Vec<T> {
-    let device = &ctx.device;
-    let pipeline = compute_pipeline(device, &with_library(common::KERNELS_WGSL), entry);
-    let out_size = (count * size_of::<T>()) as u64;
-    let input_buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some("input"),
-        contents: input,
-        usage: wgpu::BufferUsages::STORAGE,
-    });
-    let table_buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some("kulla-conty"),
-        contents: bytemuck::cast_slice(&kulla_conty_table()),
-        usage: wgpu::BufferUsages::STORAGE,
-    });
-    let output = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("output"),
-        size: out_size,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
-    let read = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("read"),
-        size: out_size,
-        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
-    let mut entries = vec![
-        wgpu::BindGroupEntry {
-            binding: input_binding,
-            resource: input_buf.as_entire_binding(),
-        },
-        wgpu::BindGroupEntry {
-            binding: input_binding + 1,
-            resource: output.as_entire_binding(),
-        },
-    ];
-    if bind_table {
-        entries.push(wgpu::BindGroupEntry {
-            binding: KULLA_CONTY_BINDING,
-            resource: table_buf.as_entire_binding(),
-        });
-    }
-    let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: None,
-        layout: &pipeline.get_bind_group_layout(0),
-        entries: &entries,
-    });
-    let mut encoder = device.create_command_encoder(&Default::default());
-    {
-        let mut pass = encoder.begin_compute_pass(&Default::default());
-        pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, &bind_group, &[]);
-        pass.dispatch_workgroups(count.div_ceil(64) as u32, 1, 1);
-    }
-    encoder.copy_buffer_to_buffer(&output, 0, &read, 0, out_size);
-    ctx.queue.submit([encoder.finish()]);
-    let bytes = map_read(ctx, &read).expect("readback");
-    bytemuck::cast_slice(&bytes).to_vec()
+    let table = kulla_conty_table();
+    let extra: &[(u32, &[u8])] = if bind_table {
+        &[(KULLA_CONTY_BINDING, bytemuck::cast_slice(&table))]
+    } else {
+        &[]
+    };
+    common::dispatch(
+        ctx,
+        &with_library(common::KERNELS_WGSL),
+        entry,
+        (input_binding, input),
+        count,
+        extra,
+    )
 }
 
 /// How a case presents the material's back side to the GPU.
@@ -500,6 +457,46 @@ fn wgsl_metallic_roughness_matches_rust() {
         })
         .count();
     assert!(delta_diffuse > 200, "{delta_diffuse}");
+}
+
+/// The environment light's view of a metallic–roughness material, which
+/// the forward pass rebuilds per fragment once textures have changed the
+/// material: WGSL `metallic_roughness_environment` against the host's
+/// `env_material`.
+#[test]
+fn wgsl_metallic_roughness_environment_matches_rust() {
+    let Some(ctx) = common::gpu("wgsl_metallic_roughness_environment_matches_rust") else {
+        return;
+    };
+    let mut rng = TestRng::new(46);
+    let materials: Vec<MetallicRoughness> =
+        (0..2000).map(|_| metallic_roughness(&mut rng)).collect();
+    let gpu_in: Vec<GpuMaterial> = materials
+        .iter()
+        .map(|m| GpuMaterial::from_bsdf(&Bsdf::MetallicRoughness(*m), Vec3::ZERO, true))
+        .collect();
+    let out: Vec<GpuEnvMaterial> = dispatch(
+        &ctx,
+        false,
+        "eval_mr_environment",
+        bytemuck::cast_slice(&gpu_in),
+        gpu_in.len(),
+        4,
+    );
+    let flat =
+        |e: &GpuEnvMaterial| -> Vec<f32> { bytemuck::cast_slice(std::slice::from_ref(e)).to_vec() };
+    for (m, g) in materials.iter().zip(&out) {
+        let host = env_material(&Bsdf::MetallicRoughness(*m));
+        for (k, (a, b)) in flat(&host).iter().zip(flat(g)).enumerate() {
+            // Words 3 (kind), 15 (fresnel) and 19 (diffuse_kc) are
+            // integers: compared as bits.
+            if [3, 15, 19].contains(&k) {
+                assert_eq!(a.to_bits(), b.to_bits(), "{m:?}: word {k}");
+            } else {
+                assert!(close(b, *a), "{m:?}: word {k}: GPU {b} vs host {a}");
+            }
+        }
+    }
 }
 
 #[test]

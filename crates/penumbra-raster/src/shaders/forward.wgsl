@@ -102,6 +102,9 @@ struct VsOut {
     // Atlas coordinates of the AO and irradiance bakes (lightmap.wgsl).
     @location(3) ao_uv: vec2<f32>,
     @location(4) irradiance_uv: vec2<f32>,
+    // Texture coordinates (UV set 0) and vertex colour (textures.wgsl).
+    @location(5) uv: vec2<f32>,
+    @location(6) color: vec3<f32>,
 }
 
 // Depth prepass: the same clip position as vs_main (both @invariant), so
@@ -134,6 +137,8 @@ fn vs_main(
     out.instance = instance;
     out.ao_uv = ao_corner_uv(instance, corner);
     out.irradiance_uv = irradiance_corner_uv(instance, corner);
+    out.uv = vertex_uv(inst, corner);
+    out.color = vertex_color(inst, corner);
     return out;
 }
 
@@ -144,9 +149,11 @@ struct Surface {
     ng: vec3<f32>,
     frame: Frame,
     wo_local: vec3<f32>,
-    // The material as seen from the viewer's side (Bsdf::seen_from_back
-    // applied on the back of a surface).
+    // The material as seen from the viewer's side (textures applied, and
+    // Bsdf::seen_from_back on the back of a surface).
     mat: GpuMaterial,
+    // What the environment light needs of the (textured) material.
+    env: GpuEnvMaterial,
     material: u32,
     // Emission towards the viewer.
     emission: vec3<f32>,
@@ -195,13 +202,16 @@ fn visible_normals(in: VsOut, wo: vec3<f32>, ng_raw: vec3<f32>) -> VisibleNormal
     return VisibleNormals(ng, ns);
 }
 
-// The fragment as a surface. ng_raw = cross(dpdx(p), dpdy(p)), taken by the
-// entry point (derivatives need uniform control flow).
-fn surface_of(in: VsOut, facing: bool, ng_raw: vec3<f32>) -> Surface {
+// The fragment as a surface. ng_raw = cross(dpdx(p), dpdy(p)) and duv =
+// (dpdx(uv), dpdy(uv)), taken by the entry point (derivatives need uniform
+// control flow): see surface_at.
+fn surface_of(in: VsOut, facing: bool, ng_raw: vec3<f32>, duv: vec4<f32>) -> Surface {
     let p = in.world;
     let inst = instances[in.instance];
-    let mat = materials[inst.material];
+    let textured = textured_material(inst.material, in.uv, duv, in.color);
+    let mat = textured.mat;
     var s: Surface;
+    s.env = textured.env;
     s.p = p;
     s.material = inst.material;
 
@@ -231,6 +241,12 @@ fn surface_of(in: VsOut, facing: bool, ng_raw: vec3<f32>) -> Surface {
     }
     s.wo_local = wo_local;
     return s;
+}
+
+// The fragment as a surface; call at the top of an entry point (the
+// derivatives it takes need uniform control flow).
+fn surface_at(in: VsOut, facing: bool) -> Surface {
+    return surface_of(in, facing, cross(dpdx(in.world), dpdy(in.world)), vec4<f32>(dpdx(in.uv), dpdy(in.uv)));
 }
 
 // Radiance towards the viewer from light i without shadows: f · E⊥ ·
@@ -301,7 +317,7 @@ fn tile_list(frag: vec2<f32>) -> u32 {
 
 @fragment
 fn fs_forward(in: VsOut, @builtin(front_facing) facing: bool) -> @location(0) vec4<f32> {
-    let s = surface_of(in, facing, cross(dpdx(in.world), dpdy(in.world)));
+    let s = surface_at(in, facing);
     var radiance = s.emission;
     if s.lit == 0u {
         return vec4<f32>(radiance, 1.0);
@@ -333,7 +349,7 @@ fn fs_forward(in: VsOut, @builtin(front_facing) facing: bool) -> @location(0) ve
 
 @fragment
 fn fs_base(in: VsOut, @builtin(front_facing) facing: bool) -> @location(0) vec4<f32> {
-    let s = surface_of(in, facing, cross(dpdx(in.world), dpdy(in.world)));
+    let s = surface_at(in, facing);
     if s.lit == 0u {
         return vec4<f32>(s.emission, 1.0);
     }
@@ -347,7 +363,7 @@ fn fs_base(in: VsOut, @builtin(front_facing) facing: bool) -> @location(0) vec4<
 
 @fragment
 fn fs_light(in: VsOut, @builtin(front_facing) facing: bool) -> @location(0) vec4<f32> {
-    let s = surface_of(in, facing, cross(dpdx(in.world), dpdy(in.world)));
+    let s = surface_at(in, facing);
     if s.lit == 0u {
         return vec4<f32>(0.0);
     }

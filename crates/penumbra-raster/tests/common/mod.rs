@@ -24,6 +24,77 @@ pub fn gpu(test: &str) -> Option<GpuContext> {
     }
 }
 
+/// Runs compute `entry` of `source` over `count` items: the input at its
+/// binding, the output (`count` values of `T`) at the next binding, and the
+/// `extra` buffers at theirs; returns the output.
+pub fn dispatch<T: bytemuck::Pod>(
+    ctx: &GpuContext,
+    source: &str,
+    entry: &str,
+    (input_binding, input): (u32, &[u8]),
+    count: usize,
+    extra: &[(u32, &[u8])],
+) -> Vec<T> {
+    use wgpu::util::DeviceExt;
+    let device = &ctx.device;
+    let pipeline = penumbra_raster::shaders::compute_pipeline(device, source, entry);
+    let out_size = (count * size_of::<T>()) as u64;
+    let storage = |label: &str, contents: &[u8]| {
+        device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some(label),
+            contents,
+            usage: wgpu::BufferUsages::STORAGE,
+        })
+    };
+    let input_buf = storage("input", input);
+    let extra_bufs: Vec<(u32, wgpu::Buffer)> = extra
+        .iter()
+        .map(|(b, bytes)| (*b, storage("extra", bytes)))
+        .collect();
+    let output = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("output"),
+        size: out_size,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let read = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("read"),
+        size: out_size,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut entries = vec![
+        wgpu::BindGroupEntry {
+            binding: input_binding,
+            resource: input_buf.as_entire_binding(),
+        },
+        wgpu::BindGroupEntry {
+            binding: input_binding + 1,
+            resource: output.as_entire_binding(),
+        },
+    ];
+    entries.extend(extra_bufs.iter().map(|(b, buf)| wgpu::BindGroupEntry {
+        binding: *b,
+        resource: buf.as_entire_binding(),
+    }));
+    let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout: &pipeline.get_bind_group_layout(0),
+        entries: &entries,
+    });
+    let mut encoder = device.create_command_encoder(&Default::default());
+    {
+        let mut pass = encoder.begin_compute_pass(&Default::default());
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, &bind_group, &[]);
+        pass.dispatch_workgroups(count.div_ceil(64) as u32, 1, 1);
+    }
+    encoder.copy_buffer_to_buffer(&output, 0, &read, 0, out_size);
+    ctx.queue.submit([encoder.finish()]);
+    let bytes = penumbra_raster::map_read(ctx, &read).expect("readback");
+    bytemuck::cast_slice(&bytes).to_vec()
+}
+
 /// ../shared/reference/<scene> next to the workspace.
 pub fn reference_dir(scene: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -105,6 +176,18 @@ fn eval_light(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let c = light_cases[i];
     light_out[i] = light_li(c.light, c.p);
+}
+
+@group(0) @binding(4) var<storage, read> env_cases: array<GpuMaterial>;
+@group(0) @binding(5) var<storage, read_write> env_out: array<GpuEnvMaterial>;
+
+@compute @workgroup_size(64)
+fn eval_mr_environment(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= arrayLength(&env_cases) {
+        return;
+    }
+    env_out[i] = metallic_roughness_environment(env_cases[i]);
 }
 "#;
 

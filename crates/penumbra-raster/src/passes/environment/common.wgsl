@@ -190,3 +190,25 @@ fn ggx_sample_visible(alpha: f32, wo: vec3<f32>, u: vec2<f32>) -> vec3<f32> {
     let h = vec3<f32>(s * cos(phi), s * sin(phi), z) + wh;
     return normalize(vec3<f32>(alpha * h.x, alpha * h.y, max(h.z, 1e-7)));
 }
+
+// What the environment light needs of a metallic–roughness material: the
+// twin of env_material's MetallicRoughness branch (mod.rs), evaluated per
+// fragment once textures have changed the material.
+fn metallic_roughness_environment(mat: GpuMaterial) -> GpuEnvMaterial {
+    var m: GpuEnvMaterial;
+    let metallic = clamp(mat.metallic, 0.0, 1.0);
+    let s = clamp(mat.specular, 0.0, 1.0);
+    let r = (mat.ior - 1.0) / (mat.ior + 1.0);
+    let d_f0 = clamp(r * r * mat.specular_color, vec3<f32>(0.0), vec3<f32>(1.0)) * s;
+    m.diffuse = mat.base_color * ((1.0 - metallic) * (1.0 - mat.transmission));
+    m.kind = ENV_SPEC_SPLIT_SUM;
+    // F = mix(F_d, Schlick(base_color), metallic): linear in (f0, f90).
+    m.f0 = d_f0 * (1.0 - metallic) + mat.base_color * metallic;
+    m.f90 = vec3<f32>(s * (1.0 - metallic) + metallic);
+    m.roughness = sqrt(clamp(mat.alpha, 0.0, 1.0));
+    m.diffuse_kc = 1u;
+    m.d_f0 = d_f0;
+    m.d_f90 = s;
+    m.transmit = mat.base_color * ((1.0 - metallic) * clamp(mat.transmission, 0.0, 1.0));
+    return m;
+}

@@ -67,7 +67,7 @@ fn glossy_radiance(s: Surface, r: vec3<f32>, roughness: f32) -> vec3<f32> {
 //  - specular: so(n·v, kA, α) × (split sum of the prefiltered map, or the
 //    exact F of a delta lobe times the map along the mirror direction).
 fn environment_light(s: Surface, k_a: f32) -> vec3<f32> {
-    let em = environment_materials[s.material];
+    let em = s.env;
     let n = s.frame.n;
     let mu = clamp(s.wo_local.z, 0.0, 1.0);
     let wo = s.frame.s * s.wo_local.x + s.frame.t * s.wo_local.y + n * s.wo_local.z;

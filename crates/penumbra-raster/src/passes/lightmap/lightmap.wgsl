@@ -13,8 +13,6 @@
 @group(2) @binding(4) var<storage, read> irradiance_corners: array<vec2<f32>>;
 @group(2) @binding(5) var<storage, read> irradiance_instances: array<GpuBakeInstance>;
 @group(2) @binding(6) var<uniform> bake: GpuBakeParams;
-// Per material: c_diff, the albedo of its Lambertian lobe (rgb).
-@group(2) @binding(7) var<storage, read> diffuse_albedo: array<vec4<f32>>;
 
 // Whether the pipeline reads bakes (false: their code is dropped).
 override BAKED_MAPS: bool = true;
@@ -102,8 +100,9 @@ fn baked_light(s: Surface, in: VsOut) -> Baked {
     out.radiance = vec3<f32>(0.0);
     out.realtime = true;
     if BAKED_MAPS && bake.irradiance != 0u {
-        // L = c_diff · E / π (notes 004: B = c_diff · E, L = B / π).
-        out.radiance = diffuse_albedo[s.material].xyz * baked_irradiance(in) * (1.0 / PI);
+        // L = c_diff · E / π (notes 004: B = c_diff · E, L = B / π), c_diff
+        // the fragment's (textures applied).
+        out.radiance = s.env.diffuse * baked_irradiance(in) * (1.0 / PI);
         out.realtime = bake.indirect_only != 0u;
     }
     return out;
@@ -119,7 +118,7 @@ struct BakeAovs {
 
 @fragment
 fn fs_bake_aovs(in: VsOut, @builtin(front_facing) facing: bool) -> BakeAovs {
-    let s = surface_of(in, facing, cross(dpdx(in.world), dpdy(in.world)));
+    let s = surface_at(in, facing);
     var out: BakeAovs;
     out.ao = vec4<f32>(0.0, 0.0, 0.0, 1.0);
     out.irradiance = vec4<f32>(0.0, 0.0, 0.0, 1.0);

@@ -100,7 +100,6 @@ pub(crate) fn bake_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
             storage_entry(4, vf, true),
             storage_entry(5, vf, true),
             uniform_entry(6, vf),
-            storage_entry(7, fragment, true),
         ],
     })
 }
@@ -135,19 +134,6 @@ impl LightmapFrame {
             bytemuck::bytes_of(&params),
             wgpu::BufferUsages::UNIFORM,
         );
-        let mut diffuse: Vec<[f32; 4]> = scene
-            .materials
-            .iter()
-            .map(|m| m.bsdf.diffuse_albedo().extend(0.0).to_array())
-            .collect();
-        // The area lights' emitter materials after the scene's: no diffuse.
-        diffuse.resize(data.materials.len().max(1), [0.0; 4]);
-        let diffuse = buffer_init(
-            device,
-            "diffuse albedo",
-            bytemuck::cast_slice(&diffuse),
-            wgpu::BufferUsages::STORAGE,
-        );
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("penumbra bakes"),
             layout,
@@ -165,7 +151,6 @@ impl LightmapFrame {
                 whole(4, &irradiance.corners),
                 whole(5, &irradiance.instances),
                 whole(6, &params_buffer),
-                whole(7, &diffuse),
             ],
         });
         Ok(Self { bind_group })

@@ -1,0 +1,213 @@
+// Textures and vertex attributes of the forward passes (host: textures.rs,
+// scene_gpu.rs). Twins of the CPU's lookups: Texture::sample (wrap modes,
+// KHR_texture_transform, bilinear at level 0) and TraceContext::shading
+// (base colour × texture × COLOR_0, roughness × G, metallic × B, emission ×
+// its texture). Minified textures are read trilinearly from box-filtered
+// levels. Appended to the forward module.
+
+// Per vertex of every mesh (GpuInstance::first_uv / first_color).
+@group(0) @binding(25) var<storage, read> vertex_uvs: array<vec2<f32>>;
+@group(0) @binding(26) var<storage, read> vertex_colors: array<vec4<f32>>;
+@group(0) @binding(27) var<storage, read> textures: array<GpuTexture>;
+// Every level of every texture: IEEE halves (r | g << 16, b).
+@group(0) @binding(28) var<storage, read> texels: array<vec2<u32>>;
+@group(0) @binding(29) var<storage, read> material_textures: array<GpuMaterialTextures>;
+
+// One texture's mip chain in `texels`, level 0 first, each level
+// row-major from the top row.
+struct GpuTexture {
+    // KHR_texture_transform: u' = u_row · (u, v, 1), v' = v_row · (u, v, 1).
+    u_row: vec4<f32>,
+    v_row: vec4<f32>,
+    width: u32,
+    height: u32,
+    levels: u32,
+    first: u32,
+    wrap_u: u32,
+    wrap_v: u32,
+    _pad0: u32,
+    _pad1: u32,
+}
+
+struct GpuMaterialTextures {
+    albedo: u32,
+    metallic_roughness: u32,
+    emission: u32,
+    _pad0: u32,
+}
+
+const NO_TEXTURE: u32 = 0xffffffffu;
+const NO_VERTEX_DATA: u32 = 0xffffffffu;
+const WRAP_REPEAT: u32 = 0u;
+const WRAP_CLAMP: u32 = 1u;
+const WRAP_MIRROR: u32 = 2u;
+
+// Wrap::index: the texel for index i of an axis of n texels.
+fn wrap_texel(mode: u32, i: i32, n: i32) -> i32 {
+    switch mode {
+        case WRAP_CLAMP: {
+            return clamp(i, 0, n - 1);
+        }
+        case WRAP_MIRROR: {
+            let m = ((i % (2 * n)) + 2 * n) % (2 * n);
+            return select(2 * n - 1 - m, m, m < n);
+        }
+        default: {
+            return ((i % n) + n) % n;
+        }
+    }
+}
+
+struct TextureLevel {
+    first: u32,
+    width: i32,
+    height: i32,
+}
+
+// Level l of t: max(1, size >> l), after the levels above it.
+fn texture_level(t: GpuTexture, level: u32) -> TextureLevel {
+    var first = t.first;
+    var w = t.width;
+    var h = t.height;
+    for (var l = 0u; l < level; l++) {
+        first += w * h;
+        w = max(w / 2u, 1u);
+        h = max(h / 2u, 1u);
+    }
+    return TextureLevel(first, i32(w), i32(h));
+}
+
+// An IEEE half float (the low 16 bits of h) as f32, exactly; decoded by
+// hand because unpack2x16float needs a capability not every adapter has.
+// The host writes no infinities or NaNs.
+fn half_to_f32(h: u32) -> f32 {
+    let e = (h >> 10u) & 0x1fu;
+    let m = h & 0x3ffu;
+    var v = f32(m) * exp2(-24.0);
+    if e != 0u {
+        v = bitcast<f32>(((e + 112u) << 23u) | (m << 13u));
+    }
+    return select(v, -v, (h & 0x8000u) != 0u);
+}
+
+fn texel_at(t: GpuTexture, lv: TextureLevel, x: i32, y: i32) -> vec3<f32> {
+    let xi = wrap_texel(t.wrap_u, x, lv.width);
+    let yi = wrap_texel(t.wrap_v, y, lv.height);
+    let w = texels[lv.first + u32(yi * lv.width + xi)];
+    return vec3<f32>(half_to_f32(w.x), half_to_f32(w.x >> 16u), half_to_f32(w.y));
+}
+
+// Bilinear lookup of one level at transformed coordinates st (texel
+// centres at (i + ½) / size), as Texture::sample.
+fn sample_level(t: GpuTexture, level: u32, st: vec2<f32>) -> vec3<f32> {
+    let lv = texture_level(t, level);
+    let x = st.x * f32(lv.width) - 0.5;
+    let y = st.y * f32(lv.height) - 0.5;
+    let x0 = floor(x);
+    let y0 = floor(y);
+    let fx = x - x0;
+    let fy = y - y0;
+    let xi = i32(x0);
+    let yi = i32(y0);
+    let top = mix(texel_at(t, lv, xi, yi), texel_at(t, lv, xi + 1, yi), fx);
+    let bottom = mix(texel_at(t, lv, xi, yi + 1), texel_at(t, lv, xi + 1, yi + 1), fx);
+    return mix(top, bottom, fy);
+}
+
+// Texture `index` at coordinates uv (before its transform); duv = (∂uv/∂x,
+// ∂uv/∂y) per pixel. The level is log2 of the footprint's longer side in
+// level-0 texels (ρ of OpenGL's isotropic LOD), level 0 when magnified,
+// blended linearly between the two nearest levels.
+fn sample_texture(index: u32, uv: vec2<f32>, duv: vec4<f32>) -> vec3<f32> {
+    let t = textures[index];
+    if t.width == 0u || t.height == 0u {
+        return vec3<f32>(1.0);
+    }
+    let st = vec2<f32>(dot(t.u_row.xyz, vec3<f32>(uv, 1.0)), dot(t.v_row.xyz, vec3<f32>(uv, 1.0)));
+    let j = mat2x2<f32>(vec2<f32>(t.u_row.x, t.v_row.x), vec2<f32>(t.u_row.y, t.v_row.y));
+    let size = vec2<f32>(f32(t.width), f32(t.height));
+    let dx = (j * duv.xy) * size;
+    let dy = (j * duv.zw) * size;
+    let rho2 = max(dot(dx, dx), dot(dy, dy));
+    var lod = 0.0;
+    // NaN and infinite footprints read level 0.
+    if rho2 > 1.0 && rho2 < 3.0e38 {
+        lod = min(0.5 * log2(rho2), f32(t.levels - 1u));
+    }
+    let l0 = u32(lod);
+    let f = lod - f32(l0);
+    let a = sample_level(t, l0, st);
+    if f <= 0.0 {
+        return a;
+    }
+    return mix(a, sample_level(t, min(l0 + 1u, t.levels - 1u), st), f);
+}
+
+// Texture coordinates (UV set 0) and colour (COLOR_0, else white) of
+// vertex `vertex` of an instance.
+fn vertex_uv(inst: GpuInstance, vertex: u32) -> vec2<f32> {
+    if inst.first_uv == NO_VERTEX_DATA {
+        return vec2<f32>(0.0);
+    }
+    return vertex_uvs[inst.first_uv + vertex];
+}
+
+fn vertex_color(inst: GpuInstance, vertex: u32) -> vec3<f32> {
+    if inst.first_color == NO_VERTEX_DATA {
+        return vec3<f32>(1.0);
+    }
+    return vertex_colors[inst.first_color + vertex].xyz;
+}
+
+struct TexturedMaterial {
+    mat: GpuMaterial,
+    env: GpuEnvMaterial,
+}
+
+// Material `material` at a fragment with texture coordinates uv (duv their
+// screen derivatives) and vertex colour `color`, as the CPU's
+// TraceContext::shading makes it: the base colour times the albedo texture
+// and the vertex colour (Bsdf::tinted), roughness × G and metallic × B of
+// the metallic–roughness texture, emission × the emission texture; and what
+// the environment light needs of the result. Conductors keep their index
+// (the host warns: tinting them solves for a new n + iκ).
+fn textured_material(material: u32, uv: vec2<f32>, duv: vec4<f32>, color: vec3<f32>) -> TexturedMaterial {
+    var mat = materials[material];
+    var env = environment_materials[material];
+    let tx = material_textures[material];
+    var tint = color;
+    if tx.albedo != NO_TEXTURE {
+        tint *= sample_texture(tx.albedo, uv, duv);
+    }
+    if tx.emission != NO_TEXTURE {
+        mat.emission *= sample_texture(tx.emission, uv, duv);
+    }
+    switch mat.model {
+        case MODEL_LAMBERT, MODEL_PHONG_BLINN: {
+            mat.kd *= tint;
+            env.diffuse *= tint;
+        }
+        case MODEL_ROUGH_DIELECTRIC: {
+            mat.base_color *= tint;
+            env.transmit *= tint;
+        }
+        case MODEL_METALLIC_ROUGHNESS: {
+            mat.base_color *= tint;
+            if tx.metallic_roughness != NO_TEXTURE {
+                let g_b = sample_texture(tx.metallic_roughness, uv, duv);
+                mat.roughness = clamp(mat.roughness * g_b.y, 0.0, 1.0);
+                mat.metallic = clamp(mat.metallic * g_b.z, 0.0, 1.0);
+                mat.alpha = mat.roughness * mat.roughness;
+            }
+            env = metallic_roughness_environment(mat);
+        }
+        case MODEL_DELTA: {
+            if env.kind == ENV_SPEC_DELTA_CONSTANT {
+                env.f0 *= tint;
+            }
+            env.transmit *= tint;
+        }
+        default: {}
+    }
+    return TexturedMaterial(mat, env);
+}

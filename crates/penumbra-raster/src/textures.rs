@@ -1,0 +1,289 @@
+//! Textures of the raster engine: the mip chain of every texture a material
+//! uses, packed into one storage buffer of half-float texels and sampled in
+//! WGSL (`shaders/textures.wgsl`) as the CPU samples
+//! [`penumbra_scene::Texture`]: the same wrap modes, the same bilinear
+//! filter at level 0, the same `KHR_texture_transform`. Minified textures
+//! are filtered trilinearly between box-filtered levels (a pixel of the
+//! CPU averages many samples over its footprint; one raster sample must
+//! read a prefiltered level to give that average instead of aliasing).
+//!
+//! Texel storage: two words of IEEE halves, `r | g << 16` and `b`
+//! (relative error ≤ 2⁻¹¹, values clamped to ±65504).
+
+use crate::gpu::{
+    GpuMaterialTextures, GpuTexture, NO_TEXTURE, WRAP_CLAMP, WRAP_MIRROR, WRAP_REPEAT,
+};
+use half::f16;
+use penumbra_scene::texture::Wrap;
+use penumbra_scene::{Scene, Texture, TextureId};
+use penumbra_shading::Rgb;
+use std::collections::BTreeMap;
+
+/// Bytes of one packed texel.
+pub const TEXEL_BYTES: u64 = 8;
+
+/// One level of a mip chain.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MipLevel {
+    pub width: u32,
+    pub height: u32,
+    /// Row-major, top row first.
+    pub texels: Vec<Rgb>,
+}
+
+/// The next level: half the size (at least 1), each texel the mean of the
+/// 2×2 texels above it (a row or column past an odd edge repeats the
+/// edge).
+pub fn downsample(level: &MipLevel) -> MipLevel {
+    let (w, h) = (level.width as usize, level.height as usize);
+    let (nw, nh) = ((w / 2).max(1), (h / 2).max(1));
+    let at = |x: usize, y: usize| level.texels[y.min(h - 1) * w + x.min(w - 1)];
+    let texels = (0..nh)
+        .flat_map(|y| (0..nw).map(move |x| (x, y)))
+        .map(|(x, y)| {
+            let (x0, y0) = (2 * x, 2 * y);
+            (at(x0, y0) + at(x0 + 1, y0) + at(x0, y0 + 1) + at(x0 + 1, y0 + 1)) * 0.25
+        })
+        .collect();
+    MipLevel {
+        width: nw as u32,
+        height: nh as u32,
+        texels,
+    }
+}
+
+/// Level 0 (the texture itself) down to 1×1.
+pub fn mip_chain(t: &Texture) -> Vec<MipLevel> {
+    let mut levels = vec![MipLevel {
+        width: t.width,
+        height: t.height,
+        texels: t.texels.clone(),
+    }];
+    while let Some(last) = levels.last().filter(|l| l.width > 1 || l.height > 1) {
+        let next = downsample(last);
+        levels.push(next);
+    }
+    levels
+}
+
+/// A texel as two words of half floats: (r, g), (b, 0).
+pub fn pack_texel(c: Rgb) -> [u32; 2] {
+    let h = |v: f32| {
+        let v = if v.is_finite() {
+            v.clamp(-65504.0, 65504.0)
+        } else {
+            0.0
+        };
+        f16::from_f32(v).to_bits() as u32
+    };
+    [h(c.x) | (h(c.y) << 16), h(c.z)]
+}
+
+fn wrap_index(w: Wrap) -> u32 {
+    match w {
+        Wrap::Repeat => WRAP_REPEAT,
+        Wrap::ClampToEdge => WRAP_CLAMP,
+        Wrap::MirroredRepeat => WRAP_MIRROR,
+    }
+}
+
+/// The textures the scene's materials use, ready for upload.
+#[derive(Clone, Debug)]
+pub struct TextureTable {
+    /// At least one entry (storage bindings cannot be empty).
+    pub textures: Vec<GpuTexture>,
+    /// Every level of every texture (at least one texel).
+    pub texels: Vec<[u32; 2]>,
+    /// Per scene material.
+    pub materials: Vec<GpuMaterialTextures>,
+    pub warnings: Vec<String>,
+}
+
+impl TextureTable {
+    /// Packs the textures of `scene`'s materials into at most
+    /// `budget_bytes` of texels: when the chains do not fit, the largest
+    /// texture loses its finest level until they do (with a warning).
+    pub fn new(scene: &Scene, budget_bytes: u64) -> Self {
+        let mut used: BTreeMap<TextureId, u32> = BTreeMap::new();
+        let mut slot = |t: Option<TextureId>| match t {
+            Some(t) if t < scene.textures.len() => {
+                let next = used.len() as u32;
+                *used.entry(t).or_insert(next)
+            }
+            _ => NO_TEXTURE,
+        };
+        let materials = scene
+            .materials
+            .iter()
+            .map(|m| GpuMaterialTextures {
+                albedo: slot(m.albedo_texture),
+                metallic_roughness: slot(m.metallic_roughness_texture),
+                emission: slot(m.emission_texture),
+                _pad0: 0,
+            })
+            .collect();
+        let mut order: Vec<(TextureId, u32)> = used.into_iter().collect();
+        order.sort_by_key(|&(_, s)| s);
+        let mut chains: Vec<Vec<MipLevel>> = order
+            .iter()
+            .map(|&(t, _)| mip_chain(&scene.textures[t]))
+            .collect();
+        let texel_count = |c: &[Vec<MipLevel>]| -> u64 {
+            c.iter()
+                .flatten()
+                .map(|l| l.width as u64 * l.height as u64)
+                .sum()
+        };
+        let mut warnings = Vec::new();
+        let budget = (budget_bytes / TEXEL_BYTES).min(u32::MAX as u64);
+        let mut reduced = BTreeMap::new();
+        while texel_count(&chains) > budget {
+            let largest = (0..chains.len())
+                .filter(|&i| chains[i].len() > 1)
+                .max_by_key(|&i| chains[i][0].width as u64 * chains[i][0].height as u64);
+            let Some(i) = largest else { break };
+            chains[i].remove(0);
+            reduced.insert(i, (chains[i][0].width, chains[i][0].height));
+        }
+        for (i, (w, h)) in &reduced {
+            let t = &scene.textures[order[*i].0];
+            warnings.push(format!(
+                "raster: texture '{}' ({}×{}) uploaded at {w}×{h}: the scene's textures exceed the GPU's storage-buffer limit ({} MiB)",
+                t.name,
+                t.width,
+                t.height,
+                budget_bytes >> 20
+            ));
+        }
+        let mut textures = Vec::with_capacity(chains.len().max(1));
+        let mut texels = Vec::with_capacity(texel_count(&chains) as usize);
+        for (&(t, _), chain) in order.iter().zip(&chains) {
+            let tex = &scene.textures[t];
+            let m = tex.uv_transform.matrix2;
+            let o = tex.uv_transform.translation;
+            textures.push(GpuTexture {
+                u_row: [m.x_axis.x, m.y_axis.x, o.x, 0.0],
+                v_row: [m.x_axis.y, m.y_axis.y, o.y, 0.0],
+                width: chain[0].width,
+                height: chain[0].height,
+                levels: chain.len() as u32,
+                first: texels.len() as u32,
+                wrap_u: wrap_index(tex.wrap[0]),
+                wrap_v: wrap_index(tex.wrap[1]),
+                _pad0: 0,
+                _pad1: 0,
+            });
+            for level in chain {
+                texels.extend(level.texels.iter().map(|&c| pack_texel(c)));
+            }
+        }
+        if textures.is_empty() {
+            textures.push(GpuTexture::default());
+        }
+        if texels.is_empty() {
+            texels.push([0; 2]);
+        }
+        Self {
+            textures,
+            texels,
+            materials,
+            warnings,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::{Affine2, Vec2};
+    use penumbra_scene::Material;
+
+    fn texture(width: u32, height: u32, texels: Vec<Rgb>) -> Texture {
+        Texture {
+            name: "t".into(),
+            width,
+            height,
+            texels,
+            wrap: [Wrap::Repeat; 2],
+            uv_transform: Affine2::IDENTITY,
+        }
+    }
+
+    #[test]
+    fn mip_levels_are_box_means_down_to_one_texel() {
+        // 3×2: odd width repeats the last column.
+        let v = |x: f32| Rgb::splat(x);
+        let t = texture(3, 2, vec![v(0.0), v(4.0), v(8.0), v(2.0), v(6.0), v(10.0)]);
+        let chain = mip_chain(&t);
+        assert_eq!(chain.len(), 2);
+        assert_eq!((chain[1].width, chain[1].height), (1, 1));
+        // (0 + 4 + 2 + 6) / 4 = 3: texels (0,0), (1,0), (0,1), (1,1).
+        assert_eq!(chain[1].texels, vec![v(3.0)]);
+        let big = texture(8, 4, vec![v(1.0); 32]);
+        let sizes: Vec<_> = mip_chain(&big)
+            .iter()
+            .map(|l| (l.width, l.height))
+            .collect();
+        assert_eq!(sizes, [(8, 4), (4, 2), (2, 1), (1, 1)]);
+    }
+
+    #[test]
+    fn half_packing_round_trips() {
+        let c = Rgb::new(0.25, 1.5, 1000.0);
+        let [a, b] = pack_texel(c);
+        let back = |bits: u32| f16::from_bits(bits as u16).to_f32();
+        assert_eq!(back(a & 0xffff), 0.25);
+        assert_eq!(back(a >> 16), 1.5);
+        assert_eq!(back(b & 0xffff), 1000.0);
+        assert_eq!(b >> 16, 0);
+        assert_eq!(pack_texel(Rgb::splat(1e9))[1], f16::MAX.to_bits() as u32);
+    }
+
+    #[test]
+    fn table_shares_textures_and_reduces_to_the_budget() {
+        let mut scene = Scene::default();
+        scene
+            .textures
+            .push(texture(64, 64, vec![Rgb::ONE; 64 * 64]));
+        scene.textures.push(Texture {
+            uv_transform: Affine2::from_scale_angle_translation(
+                Vec2::new(2.0, 3.0),
+                0.0,
+                Vec2::new(0.5, 0.25),
+            ),
+            wrap: [Wrap::ClampToEdge, Wrap::MirroredRepeat],
+            ..texture(4, 4, vec![Rgb::ONE; 16])
+        });
+        let mut a = Material::lambert("a", Rgb::ONE);
+        a.albedo_texture = Some(1);
+        let mut b = Material::lambert("b", Rgb::ONE);
+        b.albedo_texture = Some(1);
+        b.emission_texture = Some(0);
+        scene.add_material(a);
+        scene.add_material(b);
+        scene.add_material(Material::lambert("c", Rgb::ONE));
+        let table = TextureTable::new(&scene, u64::MAX);
+        let slots: Vec<_> = table
+            .materials
+            .iter()
+            .map(|m| (m.albedo, m.emission))
+            .collect();
+        assert_eq!(slots, [(0, NO_TEXTURE), (0, 1), (NO_TEXTURE, NO_TEXTURE)]);
+        let small = table.textures[0];
+        assert_eq!(
+            (small.levels, small.wrap_u, small.wrap_v),
+            (3, WRAP_CLAMP, WRAP_MIRROR)
+        );
+        assert_eq!(small.u_row, [2.0, 0.0, 0.5, 0.0]);
+        assert_eq!(small.v_row, [0.0, 3.0, 0.25, 0.0]);
+        let big = table.textures[1];
+        assert_eq!((big.width, big.levels, big.first), (64, 7, 16 + 4 + 1));
+        // 64² + 32² + ... + 1 = 5461 texels, 4×4 chain 21: a budget of
+        // 1000 texels drops the big texture's levels 64 (1386 left) and 32.
+        assert_eq!(table.texels.len(), 5461 + 21);
+        let reduced = TextureTable::new(&scene, 1000 * TEXEL_BYTES);
+        assert_eq!(reduced.textures[1].width, 16);
+        assert_eq!(reduced.texels.len(), 341 + 21);
+        assert_eq!(reduced.warnings.len(), 1, "{:?}", reduced.warnings);
+    }
+}
