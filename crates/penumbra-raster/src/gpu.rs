@@ -140,7 +140,9 @@ pub struct GpuMaterial {
     pub specular: f32,
     /// Rough conductor κ per band.
     pub conductor_k: [f32; 3],
-    pub _pad0: f32,
+    /// 1: camera rays (the shading passes) do not see the back faces
+    /// (glTF `doubleSided: false`).
+    pub cull_back_faces: u32,
 }
 
 /// WGSL index of a Phong–Blinn variant (`PHONG_*`).
@@ -639,7 +641,7 @@ pub fn gpu_structs() -> Vec<HostLayout> {
                 conductor_eta,
                 specular,
                 conductor_k,
-                _pad0
+                cull_back_faces
             ]
         ),
         host_layout!(

@@ -192,6 +192,8 @@ struct PipelineSpec<'a> {
     samples: u32,
     /// Values of the module's `override` constants.
     constants: &'a [(&'a str, f64)],
+    /// Whether the fragment stage writes a colour target (false: depth only).
+    color: bool,
 }
 
 fn build_pipeline(
@@ -200,11 +202,12 @@ fn build_pipeline(
     layout: &wgpu::PipelineLayout,
     s: PipelineSpec<'_>,
 ) -> wgpu::RenderPipeline {
-    let targets = [Some(wgpu::ColorTargetState {
+    let target = [Some(wgpu::ColorTargetState {
         format: COLOR_FORMAT,
         blend: s.blend,
         write_mask: wgpu::ColorWrites::ALL,
     })];
+    let targets: &[Option<wgpu::ColorTargetState>] = if s.color { &target } else { &[] };
     let options = wgpu::PipelineCompilationOptions {
         constants: s.constants,
         ..Default::default()
@@ -233,7 +236,7 @@ fn build_pipeline(
             module,
             entry_point: Some(fs),
             compilation_options: options,
-            targets: &targets,
+            targets,
         }),
         multiview_mask: None,
         cache: None,
@@ -255,6 +258,9 @@ pub struct ForwardRenderer {
     layout: wgpu::BindGroupLayout,
     params_layout: wgpu::BindGroupLayout,
     depth_pipeline: wgpu::RenderPipeline,
+    /// The prepass of scenes with culled back faces, without AO (the AO
+    /// prepass discards them itself).
+    depth_culled_pipeline: Option<wgpu::RenderPipeline>,
     base_pipeline: wgpu::RenderPipeline,
     /// Draws the environment map where no geometry is.
     background_pipeline: wgpu::RenderPipeline,
@@ -511,6 +517,7 @@ impl ForwardRenderer {
                 blend: None,
                 samples: 1,
                 constants: &[],
+                color: true,
             },
         );
         // With screen-space AO the prepass also writes the normal target
@@ -535,8 +542,34 @@ impl ForwardRenderer {
                 blend: None,
                 samples: msaa,
                 constants: &[],
+                color: true,
             },
         );
+        // Scenes with culled back faces (glTF doubleSided: false): a
+        // prepass that discards them (the AO prepass always checks).
+        let depth_culled_pipeline = (!ao_on).then(|| {
+            build_pipeline(
+                device,
+                &module,
+                &pipeline_layout,
+                PipelineSpec {
+                    label: "depth prepass (culled back faces)",
+                    vs: "vs_depth_culled",
+                    fs: Some("fs_depth_culled"),
+                    buffers: &position_only,
+                    depth: depth_state(
+                        true,
+                        wgpu::CompareFunction::Greater,
+                        Default::default(),
+                        depth_format,
+                    ),
+                    blend: None,
+                    samples: msaa,
+                    constants: &[],
+                    color: false,
+                },
+            )
+        });
         // Emission and ambient light only: no material model needed.
         let base_pipeline = build_pipeline(
             device,
@@ -556,6 +589,7 @@ impl ForwardRenderer {
                     ("SCREEN_AO", ao_on as u32 as f64),
                     ("ENV_LOBE_TAPS", options.environment_taps as f64),
                 ],
+                color: true,
             },
         );
         // The environment map where the prepass left the far plane (0).
@@ -577,6 +611,7 @@ impl ForwardRenderer {
                 blend: None,
                 samples: msaa,
                 constants: &[("MATERIAL_MODELS", 0.0), ("SHADOW_MAPS", 0.0)],
+                color: true,
             },
         );
         // One light, added where the stencil is 0 (shadow volumes: count 0;
@@ -629,6 +664,7 @@ impl ForwardRenderer {
             layout,
             params_layout,
             depth_pipeline,
+            depth_culled_pipeline,
             base_pipeline,
             background_pipeline,
             shadow_pipeline,
@@ -702,6 +738,7 @@ impl ForwardRenderer {
                     blend,
                     samples: self.options.msaa,
                     constants: &constants,
+                    color: true,
                 };
                 let build = |s| build_pipeline(device, &self.module, &self.pipeline_layout, s);
                 Arc::new(ShadingPipelines {
@@ -1083,7 +1120,12 @@ impl ForwardRenderer {
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
-            pass.set_pipeline(&self.depth_pipeline);
+            let culls = scene.materials.iter().any(|m| m.cull_back_faces);
+            let prepass = match &self.depth_culled_pipeline {
+                Some(p) if culls => p,
+                _ => &self.depth_pipeline,
+            };
+            pass.set_pipeline(prepass);
             pass.set_bind_group(0, &bind_group, &[]);
             pass.set_bind_group(1, &params.bind_group, &[0]);
             pass.set_bind_group(BAKE_GROUP, &lightmaps.bind_group, &[]);

@@ -43,7 +43,10 @@ impl SceneData {
         let mut warnings = Vec::new();
         let mut materials = Vec::with_capacity(scene.materials.len());
         for m in &scene.materials {
-            materials.push(GpuMaterial::from_bsdf(&m.bsdf, m.emission, m.double_sided));
+            materials.push(GpuMaterial {
+                cull_back_faces: m.cull_back_faces as u32,
+                ..GpuMaterial::from_bsdf(&m.bsdf, m.emission, m.double_sided)
+            });
         }
         warnings.extend(texture_warnings(scene));
         if materials.is_empty() {

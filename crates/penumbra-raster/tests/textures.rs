@@ -5,8 +5,9 @@
 //!   between levels 1 and 2, and the 1×1 level (the mean of every texel).
 //! - Khronos' test sheets (../shared/gltf-samples: wrap modes, texture
 //!   transforms, vertex colours, texture coordinates) rendered by both
-//!   engines under a head-on light: mean HDR-FLIP ≤ 0.02, and the sheets'
-//!   fail marks absent from the raster image as from the CPU's.
+//!   engines under a head-on light: mean HDR-FLIP ≤ 0.02, the sheets'
+//!   fail marks absent from the raster image as from the CPU's, and the
+//!   single-sided quad's back face culled (glTF `doubleSided: false`).
 //! - A quad with base-colour and metallic–roughness textures under a point
 //!   light, both engines: mean HDR-FLIP ≤ 0.02.
 //! - DamagedHelmet's emission texture: the raster image matches the CPU's.
@@ -246,14 +247,15 @@ fn raster(ctx: &GpuContext, scene: &Scene, camera: Camera, width: u32, height: u
 
 /// Renders `model` both ways; checks mean HDR-FLIP ≤ 0.02 and that the
 /// pixels `mark` picks in the `rows` (fractions of the height) are as few
-/// in the raster image as in the CPU's (within `slack`).
+/// in the raster image as in the CPU's (within `slack`); returns the
+/// raster image.
 fn sheet_parity(
     ctx: &GpuContext,
     model: &str,
     height: u32,
     (mark, rows): (&dyn Fn(Vec3) -> bool, std::ops::Range<f32>),
     slack: usize,
-) {
+) -> Image {
     let (scene, camera, w, h) = head_on(model, height);
     let cpu = cpu_local(&scene, camera, w, h, 16);
     let gpu = raster(ctx, &scene, camera, w, h);
@@ -274,6 +276,7 @@ fn sheet_parity(
         marks_gpu <= marks_cpu + slack,
         "{model}: {marks_gpu} marked pixels in the raster image, {marks_cpu} in the CPU's"
     );
+    gpu
 }
 
 /// A pixel whose colour is mostly one channel: a red "fail" mark.
@@ -286,14 +289,26 @@ fn test_sheets_match_the_cpu() {
     let Some(ctx) = common::gpu("test_sheets_match_the_cpu") else {
         return;
     };
-    // Wrap modes: red marks where a mode is wrong (the single-sided row's
-    // back faces aside, which both engines show alike).
-    sheet_parity(
+    // Wrap modes: red marks where a mode is wrong.
+    let settings = sheet_parity(
         &ctx,
         "TextureSettingsTest/glTF-Binary/TextureSettingsTest.glb",
         1000,
         (&reddish, 0.0..1.0),
         20,
+    );
+    // The single-sided row (the second of nine) shows its quad's back face,
+    // which glTF culls: the green check behind it shows in the "Test"
+    // column (0.48–0.62 of the width).
+    let (w, h) = (settings.width, settings.height);
+    let green = |p: Vec3| p.y > 0.1 && p.x < 0.5 * p.y && p.z < 0.5 * p.y;
+    let checks = (h / 9..2 * h / 9)
+        .flat_map(|y| (w * 48 / 100..w * 62 / 100).map(move |x| (x, y)))
+        .filter(|&(x, y)| green(settings.get(x, y)))
+        .count();
+    assert!(
+        checks > 500,
+        "single-sided row: {checks} green pixels in the test column"
     );
     // Texture transforms: the top row shows a yellow image where an offset
     // is missing (the bottom row has yellow markers by design).

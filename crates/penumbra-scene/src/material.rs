@@ -27,6 +27,9 @@ pub struct Material {
     pub emission_texture: Option<TextureId>,
     /// Two-sided shading, and emission from both sides.
     pub double_sided: bool,
+    /// Camera rays pass through the back faces (glTF `doubleSided: false`:
+    /// back-face culling). Other rays still meet them, one-sided.
+    pub cull_back_faces: bool,
 }
 
 impl Material {
@@ -40,6 +43,7 @@ impl Material {
             emission: Rgb::ZERO,
             emission_texture: None,
             double_sided: true,
+            cull_back_faces: false,
         }
     }
 

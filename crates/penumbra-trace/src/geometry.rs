@@ -4,6 +4,9 @@
 
 use crate::accel::{Accel, BuildQuality, Hit};
 use crate::ray::Ray;
+
+/// Culled back faces a camera ray passes through before it gives up.
+pub const MAX_CULLED_LAYERS: usize = 64;
 use glam::{Mat3, Vec2, Vec3};
 use penumbra_scene::{MaterialId, Scene};
 use penumbra_shading::light::AreaLight;
@@ -186,6 +189,27 @@ impl SceneGeometry {
             });
         }
         Some(self.surface_at(scene, &hit?))
+    }
+
+    /// Closest surface a camera ray sees: as [`Self::intersect`], but the
+    /// back faces of materials with `cull_back_faces` (glTF `doubleSided:
+    /// false`) are passed through, as glTF's back-face culling hides them
+    /// (at most [`MAX_CULLED_LAYERS`] of them; beyond, nothing is seen).
+    pub fn intersect_camera(&self, scene: &Scene, ray: &Ray) -> Option<SurfaceHit> {
+        let mut r = *ray;
+        for _ in 0..=MAX_CULLED_LAYERS {
+            let hit = self.intersect(scene, &r)?;
+            let culled = hit.light.is_none()
+                && scene.materials[hit.material].cull_back_faces
+                && hit.ng.dot(r.direction) > 0.0;
+            if !culled {
+                return Some(hit);
+            }
+            // On through the face: leave from its back side.
+            let origin = crate::ray::offset_ray_origin(hit.p, hit.ng);
+            r = Ray::segment(origin, r.direction, r.tmax - hit.t);
+        }
+        None
     }
 
     /// Is anything (triangle or area light) along `ray` before `ray.tmax`?

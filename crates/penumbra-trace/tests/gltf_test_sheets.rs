@@ -35,20 +35,29 @@ fn wrap_modes_show_no_red_marks() {
     let mut report = Vec::new();
     for (r, name) in ROWS.iter().enumerate() {
         let (y0, y1) = ((r + 1) * h as usize / 9, (r + 2) * h as usize / 9);
-        let count = |f: &dyn Fn(Vec3) -> bool| {
+        let count = |f: &dyn Fn(Vec3) -> bool, x0: u32, x1: u32| {
             (y0..y1)
-                .flat_map(|y| (0..w).map(move |x| (x, y as u32)))
+                .flat_map(|y| (x0..x1).map(move |x| (x, y as u32)))
                 .filter(|&(x, y)| f(albedo.get(x, y)))
                 .count()
         };
-        report.push((*name, count(&red), count(&green)));
+        // The "Test" column spans about 0.48–0.62 of the width.
+        let test_column = (w * 48 / 100, w * 62 / 100);
+        report.push((
+            *name,
+            count(&red, 0, w),
+            count(&green, test_column.0, test_column.1),
+        ));
     }
     eprintln!("{report:?}");
+    // Every row passes, the single-sided one too: its quad shows the
+    // camera its back face, which glTF culls, revealing the check behind.
     for (name, reds, greens) in &report {
-        assert!(*greens > 100, "{name}: no green mark ({greens} pixels)");
-        if *name != "single-sided" {
-            assert_eq!(*reds, 0, "{name}: {reds} red pixels ({report:?})");
-        }
+        assert!(
+            *greens > 50,
+            "{name}: no green mark in the test column ({greens} pixels)"
+        );
+        assert_eq!(*reds, 0, "{name}: {reds} red pixels ({report:?})");
     }
 }
 

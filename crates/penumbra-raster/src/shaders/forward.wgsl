@@ -107,6 +107,38 @@ struct VsOut {
     @location(6) color: vec3<f32>,
 }
 
+// Whether a fragment of `instance` on the side `facing` is a culled back
+// face (glTF doubleSided: false): the front side as the CPU defines it,
+// the object-space winding kept through mirroring transforms.
+fn culled_back_face(instance: u32, facing: bool) -> bool {
+    let inst = instances[instance];
+    let front = facing != (inst.flip_winding != 0u);
+    return !front && materials[inst.material].cull_back_faces != 0u;
+}
+
+// Depth prepass of scenes with culled back faces (vs_depth's clip
+// position, and a fragment stage that discards them).
+struct CulledDepthOut {
+    @builtin(position) @invariant clip: vec4<f32>,
+    @location(0) @interpolate(flat) instance: u32,
+}
+
+@vertex
+fn vs_depth_culled(
+    @location(0) position: vec3<f32>,
+    @builtin(instance_index) instance: u32,
+) -> CulledDepthOut {
+    let world = world_point(instances[instance].model, position);
+    return CulledDepthOut(camera.view_proj * vec4<f32>(world, 1.0), instance);
+}
+
+@fragment
+fn fs_depth_culled(in: CulledDepthOut, @builtin(front_facing) facing: bool) {
+    if culled_back_face(in.instance, facing) {
+        discard;
+    }
+}
+
 // Depth prepass: the same clip position as vs_main (both @invariant), so
 // that the shading passes can test depth with GreaterEqual.
 @vertex
@@ -157,6 +189,9 @@ struct Surface {
     material: u32,
     // Emission towards the viewer.
     emission: vec3<f32>,
+    // A back face the camera does not see (glTF doubleSided: false): the
+    // entry points discard it.
+    culled: bool,
     // 0: the back of a one-sided surface (emission only, no light).
     lit: u32,
 }
@@ -212,6 +247,7 @@ fn surface_of(in: VsOut, facing: bool, ng_raw: vec3<f32>, duv: vec4<f32>) -> Sur
     let mat = textured.mat;
     var s: Surface;
     s.env = textured.env;
+    s.culled = culled_back_face(in.instance, facing);
     s.p = p;
     s.material = inst.material;
 
@@ -290,9 +326,12 @@ fn ambient_occlusion(in: VsOut) -> f32 {
 // pixel centre (the distance from the camera plane, −z_view), negated on
 // the emitters of analytic area lights.
 @fragment
-fn fs_ao_prepass(in: VsOut) -> @location(0) vec4<f32> {
+fn fs_ao_prepass(in: VsOut, @builtin(front_facing) facing: bool) -> @location(0) vec4<f32> {
     // Only the normals of surface_of: no material work in the prepass.
     let n = visible_normals(in, view_direction(in.world), cross(dpdx(in.world), dpdy(in.world)));
+    if culled_back_face(in.instance, facing) {
+        discard;
+    }
     let z = max(dot(camera.eye.xyz - in.world, camera.back.xyz), 1e-30);
     // Analytic lights are not surfaces (kA = 0, as the `ao` integrator
     // gives): marked by a negative distance; they still occlude others.
@@ -318,6 +357,9 @@ fn tile_list(frag: vec2<f32>) -> u32 {
 @fragment
 fn fs_forward(in: VsOut, @builtin(front_facing) facing: bool) -> @location(0) vec4<f32> {
     let s = surface_at(in, facing);
+    if s.culled {
+        discard;
+    }
     var radiance = s.emission;
     if s.lit == 0u {
         return vec4<f32>(radiance, 1.0);
@@ -350,6 +392,9 @@ fn fs_forward(in: VsOut, @builtin(front_facing) facing: bool) -> @location(0) ve
 @fragment
 fn fs_base(in: VsOut, @builtin(front_facing) facing: bool) -> @location(0) vec4<f32> {
     let s = surface_at(in, facing);
+    if s.culled {
+        discard;
+    }
     if s.lit == 0u {
         return vec4<f32>(s.emission, 1.0);
     }
@@ -364,6 +409,9 @@ fn fs_base(in: VsOut, @builtin(front_facing) facing: bool) -> @location(0) vec4<
 @fragment
 fn fs_light(in: VsOut, @builtin(front_facing) facing: bool) -> @location(0) vec4<f32> {
     let s = surface_at(in, facing);
+    if s.culled {
+        discard;
+    }
     if s.lit == 0u {
         return vec4<f32>(0.0);
     }

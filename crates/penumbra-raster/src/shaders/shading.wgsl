@@ -86,7 +86,8 @@ struct GpuMaterial {
     conductor_eta: vec3<f32>,
     specular: f32,
     conductor_k: vec3<f32>,
-    _pad0: f32,
+    // 1: the shading passes discard back faces (glTF doubleSided: false).
+    cull_back_faces: u32,
 }
 
 // Incident light at a point: unit direction towards the light and the

@@ -9,7 +9,7 @@ use penumbra_shading::Rgb;
 use penumbra_shading::sampling::{Sampler, square_to_cosine_hemisphere};
 
 pub fn li(ctx: &TraceContext, ray: &Ray, sampler: &mut Sampler) -> PathSample {
-    let Some(hit) = ctx.geometry.intersect(ctx.scene, ray) else {
+    let Some(hit) = ctx.geometry.intersect_camera(ctx.scene, ray) else {
         return PathSample::default();
     };
     if hit.light.is_some() {

@@ -10,7 +10,7 @@ use crate::ray::Ray;
 use penumbra_shading::sampling::Sampler;
 
 pub fn li(ctx: &TraceContext, ray: &Ray, sampler: &mut Sampler) -> PathSample {
-    let Some(hit) = ctx.geometry.intersect(ctx.scene, ray) else {
+    let Some(hit) = ctx.geometry.intersect_camera(ctx.scene, ray) else {
         return PathSample {
             radiance: ctx.lights.environment().eval(ray.direction),
             ..Default::default()

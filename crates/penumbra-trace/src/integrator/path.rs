@@ -87,7 +87,13 @@ pub(crate) fn walk<S: RadianceSink>(
     aov: &mut PathSample,
 ) {
     loop {
-        let Some(hit) = ctx.geometry.intersect(ctx.scene, &st.ray) else {
+        // Segment 1 is the camera ray, which culls glTF's single-sided back faces.
+        let hit = if st.depth == 1 {
+            ctx.geometry.intersect_camera(ctx.scene, &st.ray)
+        } else {
+            ctx.geometry.intersect(ctx.scene, &st.ray)
+        };
+        let Some(hit) = hit else {
             // Environment, MIS-weighted against its NEE sampling.
             let le = ctx.lights.environment().eval(st.ray.direction);
             if le != Rgb::ZERO {

@@ -51,7 +51,13 @@ fn trace(
     if depth > max_depth {
         return Rgb::ZERO;
     }
-    let Some(hit) = ctx.geometry.intersect(ctx.scene, ray) else {
+    // Segment 1 is the camera ray, which culls glTF's single-sided back faces.
+    let hit = if depth == 1 {
+        ctx.geometry.intersect_camera(ctx.scene, ray)
+    } else {
+        ctx.geometry.intersect(ctx.scene, ray)
+    };
+    let Some(hit) = hit else {
         return ctx.lights.environment().eval(ray.direction);
     };
     let wo = -ray.direction;

@@ -119,6 +119,9 @@ struct BakeAovs {
 @fragment
 fn fs_bake_aovs(in: VsOut, @builtin(front_facing) facing: bool) -> BakeAovs {
     let s = surface_at(in, facing);
+    if s.culled {
+        discard;
+    }
     var out: BakeAovs;
     out.ao = vec4<f32>(0.0, 0.0, 0.0, 1.0);
     out.irradiance = vec4<f32>(0.0, 0.0, 0.0, 1.0);

@@ -322,6 +322,8 @@ impl Loader<'_> {
             emission_texture,
             // Transmitted light crosses the surface both ways.
             double_sided: m.double_sided || trans_factor > 0.0,
+            // glTF culls the back faces of single-sided materials.
+            cull_back_faces: !m.double_sided && trans_factor <= 0.0,
         });
         self.materials.insert(i, id);
         Ok(id)

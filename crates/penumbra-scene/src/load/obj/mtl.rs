@@ -405,6 +405,7 @@ impl ObjLoader<'_> {
             emission_texture: None,
             // Dielectrics are crossed both ways.
             double_sided: refracting || !emissive,
+            cull_back_faces: false,
         }))
     }
 }

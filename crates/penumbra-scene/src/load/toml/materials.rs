@@ -142,6 +142,7 @@ fn material(doc: &Doc<'_>, path: &str, raw: &RawMaterial) -> Result<Material, Sc
         emission,
         emission_texture: None,
         double_sided,
+        cull_back_faces: false,
     })
 }
 
