@@ -251,6 +251,11 @@ fn render_info_compare_round_trip() {
         o.status.success() && out.contains("triangles:  15362") && out.contains("lights:     2"),
         "{out}"
     );
+    // Quantities as numbers with units, not Rust debug text.
+    assert!(
+        out.contains(" W/sr") && !out.contains("Vec3(") && out.contains("vertical field of view"),
+        "{out}"
+    );
 }
 
 #[test]

@@ -1,8 +1,9 @@
 //! Khronos glTF sample models (../shared/gltf-samples) rendered as a new
 //! user would: a file without lights is lit by the default environment, a
 //! file without a camera is framed from an oblique direction that keeps the
-//! whole model in view at any aspect ratio, and PNGs are exposed
-//! automatically.
+//! whole model in view at any aspect ratio, PNGs are exposed
+//! automatically, and unlit materials show their base colour in both
+//! engines.
 
 mod common;
 
@@ -250,4 +251,59 @@ fn a_file_camera_is_picked_by_index() {
         "{}",
         stderr(&o)
     );
+}
+
+/// UnlitTest (KHR_materials_unlit): with no light at all, both engines show
+/// each object in exactly its base colour, flat: every pixel covered by an
+/// object is orange (1, 0.2176, 0) or blue (0, 0.2176, 1), apart from the
+/// antialiased outlines.
+#[test]
+fn unlit_materials_show_their_base_colour_in_both_engines() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let path = sample("UnlitTest");
+    let colours = [
+        glam::Vec3::new(1.0, 0.217_637_64, 0.0),
+        glam::Vec3::new(0.0, 0.217_637_64, 1.0),
+    ];
+    for engine in ["trace", "raster"] {
+        let out = format!("unlit-{engine}.exr");
+        let o = penumbra(
+            &[
+                "render",
+                path.to_str().unwrap(),
+                "--engine",
+                engine,
+                "--environment",
+                "none",
+                "--resolution",
+                "96x64",
+                "-o",
+                &out,
+            ],
+            dir,
+        );
+        assert!(o.status.success(), "{engine}: {}", stderr(&o));
+        let image = penumbra_image::read_image(&dir.join(&out)).unwrap();
+        let lit: Vec<glam::Vec3> = image
+            .pixels
+            .iter()
+            .copied()
+            .filter(|p| p.max_element() > 0.0)
+            .collect();
+        let exact = lit
+            .iter()
+            .filter(|p| {
+                colours
+                    .iter()
+                    .any(|c| (**p - *c).abs().max_element() < 2e-3)
+            })
+            .count();
+        let n = image.pixels.len();
+        assert!(
+            exact > n / 10 && exact as f64 > 0.8 * lit.len() as f64,
+            "{engine}: {exact} pixels of a base colour, {} lit, of {n}",
+            lit.len()
+        );
+    }
 }

@@ -309,7 +309,7 @@ fn features_hierarchy_instancing_camera_light_materials() {
     assert!(!w.iter().any(|s| s.contains("range")));
     assert!(
         w.iter()
-            .any(|s| s.contains("not supported, ignored: EXT_mesh_gpu_instancing"))
+            .any(|s| s.contains("not supported, ignored: KHR_animation_pointer"))
     );
 }
 
@@ -410,4 +410,39 @@ fn materials_map_to_the_metallic_roughness_model() {
         w.contains("material 'coated' (materials[3]): specularTexture ignored"),
         "{w}"
     );
+}
+
+/// EXT_mesh_gpu_instancing: the triangle (0,0,0), (1,0,0), (0,1,0) drawn
+/// three times under a node moved up by 10, each row's T·R·S inside the
+/// node's transform (rotations stored as normalised shorts).
+#[test]
+fn ok_instancing() {
+    let scene = load("ok_instancing.gltf");
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    assert_eq!((scene.meshes.len(), scene.instances.len()), (1, 3));
+    let corners = |i: usize| -> Vec<Vec3> {
+        scene.meshes[0]
+            .positions
+            .iter()
+            .map(|p| scene.instances[i].transform.transform_point3(*p))
+            .collect()
+    };
+    let expect = [
+        // As is, 10 up.
+        [(0.0, 10.0, 0.0), (1.0, 10.0, 0.0), (0.0, 11.0, 0.0)],
+        // Scaled 2, turned 90° about z (x → y, y → −x), then x + 2.
+        [(2.0, 10.0, 0.0), (2.0, 12.0, 0.0), (0.0, 10.0, 0.0)],
+        // y squashed to 0.5, turned 180° about y (x → −x), then z − 3.
+        [(0.0, 10.0, -3.0), (-1.0, 10.0, -3.0), (0.0, 10.5, -3.0)],
+    ];
+    for (i, e) in expect.iter().enumerate() {
+        for (got, want) in corners(i).iter().zip(e) {
+            let want = Vec3::new(want.0, want.1, want.2);
+            // Shorts hold 1/√2 to 1.5e-5.
+            assert!(
+                (*got - want).length() < 1e-3,
+                "instance {i}: {got} vs {want}"
+            );
+        }
+    }
 }

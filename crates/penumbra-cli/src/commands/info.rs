@@ -182,7 +182,11 @@ fn print_scene(path: &std::path::Path) -> Result<()> {
         None => println!("bounds:     (empty)"),
     }
     match &scene.camera {
-        Some(c) => println!("camera:     at {:?}, {:?}", c.position(), c.projection),
+        Some(c) => println!(
+            "camera:     at {}, {}",
+            triple(c.position()),
+            projection(&c.projection)
+        ),
         None => println!(
             "camera:     none (a camera framing the bounds from 30° right of +z, 25° up is used)"
         ),
@@ -190,9 +194,9 @@ fn print_scene(path: &std::path::Path) -> Result<()> {
     if scene.cameras.len() > 1 {
         for (i, c) in scene.cameras.iter().enumerate() {
             println!(
-                "  camera {i}: '{}' at {:?} (render --camera {i})",
+                "  camera {i}: '{}' at {} (render --camera {i})",
                 c.name,
-                c.camera.position().to_array()
+                triple(c.camera.position())
             );
         }
     }
@@ -223,31 +227,36 @@ fn print_scene(path: &std::path::Path) -> Result<()> {
         let p = l.light.power(radius);
         let what = match &l.light {
             Light::Point(pl) => format!(
-                "point at {:?}, intensity {:?} W/sr",
-                pl.position, pl.intensity
+                "point at {}, intensity {} W/sr",
+                triple(pl.position),
+                triple(pl.intensity)
             ),
             Light::Directional(d) => format!(
-                "directional, travelling {:?}, irradiance {:?} W/m²",
-                d.direction, d.irradiance
+                "directional, travelling {}, irradiance {} W/m²",
+                triple(d.direction),
+                triple(d.irradiance)
             ),
             Light::Spot(sp) => format!(
-                "spot at {:?} towards {:?}, intensity {:?} W/sr",
-                sp.position, sp.direction, sp.intensity
+                "spot at {} towards {}, intensity {} W/sr",
+                triple(sp.position),
+                triple(sp.direction),
+                triple(sp.intensity)
             ),
         };
-        println!(
-            "  {}: {what}; power {:.4} {:.4} {:.4} W",
-            l.name, p.x, p.y, p.z
-        );
+        println!("  {}: {what}; power {} W", l.name, triple(p));
     }
     (scene.area_lights.iter()).for_each(|l| {
         println!(
-            "  area light '{}': {:?}, radiance {:?}, two-sided {}, power {:.4?} W",
+            "  area light '{}': {}, radiance {} W/(sr·m²), {}, power {} W",
             l.name,
-            l.light.shape,
-            l.light.radiance,
-            l.light.two_sided,
-            l.light.power()
+            shape(&l.light.shape),
+            triple(l.light.radiance),
+            if l.light.two_sided {
+                "two-sided"
+            } else {
+                "one-sided"
+            },
+            triple(l.light.power())
         )
     });
     // Area lights: emissive instances, power Φ = π L A per emitting side.
@@ -260,8 +269,16 @@ fn print_scene(path: &std::path::Path) -> Result<()> {
         let area = scene.instance_area(inst);
         let phi = m.emitted_power(area);
         println!(
-            "  area light '{}' (material '{}'): area {:.4} unit², radiance {:?}, power π·L·A = {:.4} {:.4} {:.4} W per m² of unit² (W if the scene is in metres)",
-            mesh.name, m.name, area, m.emission, phi.x, phi.y, phi.z
+            "  emitting mesh '{}' (material '{}'): area {area:.4} m², radiance {} W/(sr·m²){}, power π·L·A = {} W (scene units taken as metres)",
+            mesh.name,
+            m.name,
+            triple(m.emission),
+            if m.emission_texture.is_some() {
+                " × its emission texture"
+            } else {
+                ""
+            },
+            triple(phi)
         );
     }
     println!("warnings:   {}", scene.warnings.len());
@@ -269,4 +286,58 @@ fn print_scene(path: &std::path::Path) -> Result<()> {
         println!("  {w}");
     }
     Ok(())
+}
+
+/// `(x, y, z)`, rounded to 4 decimals (scientific notation below 10⁻³ and from 10⁵).
+fn triple(v: glam::Vec3) -> String {
+    let f = |x: f32| {
+        if x == 0.0 || (1e-3..1e5).contains(&x.abs()) {
+            format!("{}", (x as f64 * 1e4).round() / 1e4)
+        } else {
+            format!("{x:.3e}")
+        }
+    };
+    format!("({}, {}, {})", f(v.x), f(v.y), f(v.z))
+}
+
+fn projection(p: &penumbra_scene::Projection) -> String {
+    match p {
+        penumbra_scene::Projection::Perspective { fov_y } => {
+            format!(
+                "perspective, vertical field of view {:.2}°",
+                fov_y.to_degrees()
+            )
+        }
+        penumbra_scene::Projection::Orthographic { height } => {
+            format!("orthographic, view {height:.4} m high")
+        }
+    }
+}
+
+fn shape(s: &penumbra_shading::light::Shape) -> String {
+    use penumbra_shading::light::Shape;
+    match *s {
+        Shape::Sphere { center, radius } => {
+            format!("sphere at {}, radius {radius} m", triple(center))
+        }
+        Shape::Disk {
+            center,
+            normal,
+            radius,
+        } => format!(
+            "disk at {}, facing {}, radius {radius} m",
+            triple(center),
+            triple(normal)
+        ),
+        Shape::Quad {
+            corner,
+            edge1,
+            edge2,
+        } => format!(
+            "quad from corner {} along {} and {}",
+            triple(corner),
+            triple(edge1),
+            triple(edge2)
+        ),
+    }
 }

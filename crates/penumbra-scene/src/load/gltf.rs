@@ -16,8 +16,10 @@
 
 mod accessor;
 mod container;
+mod instancing;
 mod material;
 pub(crate) mod texture;
+mod topology;
 
 use super::LoadOptions;
 use crate::camera::{Camera, Projection};
@@ -36,10 +38,12 @@ use penumbra_shading::radiometry::{candela_to_watts_per_sr, lux_to_watts_per_m2}
 use std::borrow::Cow;
 use std::collections::HashMap;
 use std::path::Path;
+use topology::Topology;
 
 /// Extensions that may appear in `extensionsRequired`: read exactly, or
 /// approximated with a warning (any `KHR_materials_*` is approximated).
 const LOADABLE_REQUIRED: &[&str] = &[
+    "EXT_mesh_gpu_instancing",
     "KHR_lights_punctual",
     "KHR_mesh_quantization",
     "KHR_texture_transform",
@@ -51,7 +55,10 @@ fn extension_is_handled(name: &str) -> bool {
     name.starts_with("KHR_materials_")
         || matches!(
             name,
-            "KHR_lights_punctual" | "KHR_mesh_quantization" | "KHR_texture_transform"
+            "EXT_mesh_gpu_instancing"
+                | "KHR_lights_punctual"
+                | "KHR_mesh_quantization"
+                | "KHR_texture_transform"
         )
 }
 
@@ -428,7 +435,15 @@ impl Loader<'_> {
                 if node.skin.is_some() {
                     self.notes.skins.push(n);
                 }
-                self.instance_mesh(n, m.value(), world)?;
+                for world in self.mesh_instances(n, world)? {
+                    if !world.is_finite() {
+                        return Err(self.err(
+                            format!("{npath}.extensions.EXT_mesh_gpu_instancing"),
+                            "an instance's world transform is not finite",
+                        ));
+                    }
+                    self.instance_mesh(n, m.value(), world)?;
+                }
             }
             for c in node.children.iter().flatten().rev() {
                 stack.push((c.value(), world));
@@ -683,23 +698,22 @@ impl Loader<'_> {
         let mesh = &self.root.meshes[m];
         let prim = &mesh.primitives[p];
         let base = format!("meshes[{m}].primitives[{p}]");
-        match prim.mode {
-            Checked::Valid(Mode::Triangles) => {}
+        let topology = match prim.mode {
+            Checked::Valid(Mode::Triangles) => Topology::Triangles,
+            Checked::Valid(Mode::TriangleStrip) => Topology::Strip,
+            Checked::Valid(Mode::TriangleFan) => Topology::Fan,
             Checked::Valid(mode) => {
                 let name = match mode {
                     Mode::Points => "POINTS",
                     Mode::Lines => "LINES",
                     Mode::LineLoop => "LINE_LOOP",
-                    Mode::LineStrip => "LINE_STRIP",
-                    Mode::TriangleStrip => "TRIANGLE_STRIP",
-                    Mode::TriangleFan => "TRIANGLE_FAN",
-                    Mode::Triangles => "TRIANGLES",
+                    _ => "LINE_STRIP",
                 };
                 self.notes.skipped_modes.push(format!("{base} ({name})"));
                 return Ok(None);
             }
             Checked::Invalid => return Err(self.err(format!("{base}.mode"), "invalid mode")),
-        }
+        };
         if prim.targets.as_ref().is_some_and(|t| !t.is_empty()) {
             self.notes.morph_targets.push(base.clone());
         }
@@ -762,37 +776,22 @@ impl Loader<'_> {
             }
             None => None,
         };
-        let (indices, index_acc) = match prim.indices {
+        let (sequence, index_acc) = match prim.indices {
             Some(ix) => {
                 let ix = ix.value();
-                let v = self.read_indices(ix, &format!("{base}.indices"))?;
-                if !v.len().is_multiple_of(3) {
-                    return Err(self.err(
-                        format!("{base}.indices"),
-                        format!(
-                            "{} indices is not a multiple of 3 (mode TRIANGLES) (accessors[{ix}])",
-                            v.len()
-                        ),
-                    ));
-                }
-                (v, Some(ix))
+                (self.read_indices(ix, &format!("{base}.indices"))?, Some(ix))
             }
             None => {
-                if !nverts.is_multiple_of(3) || nverts > u32::MAX as usize {
-                    return Err(self.err(
-                        pos_path,
-                        format!(
-                            "a non-indexed TRIANGLES primitive needs a multiple of 3 vertices, found {nverts}"
-                        ),
-                    ));
+                if nverts > u32::MAX as usize {
+                    return Err(self.err(pos_path, format!("{nverts} vertices is too many")));
                 }
                 ((0..nverts as u32).collect(), None)
             }
         };
-        let triangles: Vec<[u32; 3]> = indices
-            .chunks_exact(3)
-            .map(|t| [t[0], t[1], t[2]])
-            .collect();
+        let triangles = topology::triangles(topology, &sequence).map_err(|e| match index_acc {
+            Some(ix) => self.err(format!("{base}.indices"), format!("{e} (accessors[{ix}])")),
+            None => self.err(pos_path.clone(), format!("a non-indexed primitive: {e}")),
+        })?;
         let material = match prim.material {
             Some(mi) => self.material(mi.value())?,
             None => self.default_material(),
@@ -854,7 +853,7 @@ impl Loader<'_> {
         }
         if !n.skipped_modes.is_empty() {
             w.push(format!(
-                "{f}: skipped {} primitive(s) that are not TRIANGLES (only TRIANGLES is supported): {}",
+                "{f}: skipped {} primitive(s) of points or lines (only triangles are rendered): {}",
                 n.skipped_modes.len(),
                 list(&n.skipped_modes)
             ));

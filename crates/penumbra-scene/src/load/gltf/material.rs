@@ -8,7 +8,9 @@
 //! (`transmissionFactor`), `KHR_materials_specular` (`specularFactor`,
 //! `specularColorFactor`); emission = `emissiveFactor ×
 //! KHR_materials_emissive_strength` (× `emissiveTexture`, sRGB-decoded); `doubleSided` (forced on for
-//! transmission > 0: light crosses the surface both ways).
+//! transmission > 0: light crosses the surface both ways; off, back faces
+//! are culled for camera rays). `KHR_materials_unlit`: an emitter of the
+//! base colour (× its texture) that reflects nothing.
 //!
 //! Exactly-Lambertian materials stay `Bsdf::Lambert` (base colour as albedo):
 //! `metallicFactor = 0`, no transmission, and the dielectric layer switched
@@ -16,7 +18,8 @@
 //! 0, i.e. `specularFactor = 0` or `ior = 1`).
 //!
 //! Samplers' wrap modes (REPEAT, CLAMP_TO_EDGE, MIRRORED_REPEAT) are kept
-//! per texture; filters are not (lookups are bilinear, no mipmaps).
+//! per texture; filters are not (the CPU's lookups are bilinear, the
+//! raster engine's trilinear between its own mip levels).
 //!
 //! Still ignored, with ONE warning per material listing it: alpha modes,
 //! `normalTexture`, `occlusionTexture`,
@@ -44,6 +47,7 @@ use std::borrow::Cow;
 /// Material extensions whose parameters are read; any other material
 /// extension is listed as ignored.
 const READ_MATERIAL_EXTENSIONS: &[&str] = &[
+    "KHR_materials_unlit",
     "KHR_materials_emissive_strength",
     "KHR_materials_specular",
     "KHR_materials_ior",
@@ -313,6 +317,23 @@ impl Loader<'_> {
                 specular_color,
             })
         };
+        // KHR_materials_unlit: the surface shows its base colour (× the
+        // base colour texture) as it is, whatever the light: an emitter of
+        // that radiance that reflects nothing.
+        if raw["extensions"]["KHR_materials_unlit"].is_object() {
+            let id = self.scene.add_material(Material {
+                name,
+                bsdf: Bsdf::Lambert(Lambert::new(Rgb::ZERO)),
+                albedo_texture: None,
+                metallic_roughness_texture: None,
+                emission: albedo,
+                emission_texture: albedo_texture,
+                double_sided: m.double_sided,
+                cull_back_faces: !m.double_sided,
+            });
+            self.materials.insert(i, id);
+            return Ok(id);
+        }
         let id = self.scene.add_material(Material {
             name,
             bsdf,

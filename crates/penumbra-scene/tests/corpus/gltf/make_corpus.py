@@ -156,7 +156,7 @@ o_n, o_uv, o_idx = len(pos), len(pos) + len(nrm), len(pos) + len(nrm) + len(uv)
 doc = {
     "asset": {"version": "2.0", "generator": "make_corpus.py"},
     "extensionsUsed": ["KHR_lights_punctual", "KHR_materials_emissive_strength",
-                       "KHR_materials_specular", "KHR_materials_clearcoat", "EXT_mesh_gpu_instancing"],
+                       "KHR_materials_specular", "KHR_materials_clearcoat", "KHR_animation_pointer"],
     "scene": 0,
     "scenes": [{"nodes": [0, 3, 4]}],
     "nodes": [
@@ -291,3 +291,26 @@ doc = {
                    "min": [0, 0, 0], "max": [1, 1, 0]}],
 }
 write("ok_materials.gltf", dump(doc))
+
+# EXT_mesh_gpu_instancing: one triangle drawn three times under a node moved
+# up by 10: instance 0 as is, 1 moved by x + 2, turned 90° about z and
+# scaled 2, 2 moved by z - 3, turned 180° about y and squashed to y 0.5; the
+# rotations as normalised signed shorts (KHR_mesh_quantization's encoding).
+half = 2 ** -0.5
+tr = f32s([0, 0, 0, 2, 0, 0, 0, 0, -3])
+rot = struct.pack("<12h", *[round(v * 32767) for v in [0, 0, 0, 1, 0, 0, half, half, 0, 1, 0, 0]])
+sc = f32s([1, 1, 1, 2, 2, 2, 1, 0.5, 1])
+doc, buf = triangle_doc()
+parts = [buf, tr, rot, sc]
+offsets = [sum(len(p) for p in parts[:i]) for i in range(len(parts))]
+doc["buffers"][0] = {"uri": data_uri(b"".join(parts)), "byteLength": sum(len(p) for p in parts)}
+doc["bufferViews"] += [{"buffer": 0, "byteOffset": o, "byteLength": len(p)} for o, p in zip(offsets[1:], parts[1:])]
+doc["accessors"] += [
+    {"bufferView": 2, "componentType": 5126, "count": 3, "type": "VEC3"},
+    {"bufferView": 3, "componentType": 5122, "normalized": True, "count": 3, "type": "VEC4"},
+    {"bufferView": 4, "componentType": 5126, "count": 3, "type": "VEC3"},
+]
+doc["extensionsUsed"] = ["EXT_mesh_gpu_instancing"]
+doc["nodes"] = [{"mesh": 0, "translation": [0, 10, 0], "extensions": {"EXT_mesh_gpu_instancing": {
+    "attributes": {"TRANSLATION": 2, "ROTATION": 3, "SCALE": 4}}}}]
+write("ok_instancing.gltf", dump(doc))
