@@ -241,10 +241,11 @@ pub struct GpuInstance {
     /// a surface (the `ao` integrator gives it kA = 0).
     pub light_shape: u32,
     /// Index of the mesh's first vertex in the texture-coordinate (UV set
-    /// 0) and vertex-colour buffers; [`NO_VERTEX_DATA`]: the mesh has none.
+    /// 0), vertex-colour and tangent buffers; [`NO_VERTEX_DATA`]: the mesh
+    /// has none.
     pub first_uv: u32,
     pub first_color: u32,
-    pub _pad0: u32,
+    pub first_tangent: u32,
     pub _pad1: u32,
 }
 
@@ -287,7 +288,13 @@ pub struct GpuMaterialTextures {
     pub albedo: u32,
     pub metallic_roughness: u32,
     pub emission: u32,
+    /// Tangent-space normal map, and its `scale` (x and y of the mapped
+    /// normal).
+    pub normal: u32,
+    pub normal_scale: f32,
     pub _pad0: u32,
+    pub _pad1: u32,
+    pub _pad2: u32,
 }
 
 impl Default for GpuMaterialTextures {
@@ -296,7 +303,11 @@ impl Default for GpuMaterialTextures {
             albedo: NO_TEXTURE,
             metallic_roughness: NO_TEXTURE,
             emission: NO_TEXTURE,
+            normal: NO_TEXTURE,
+            normal_scale: 1.0,
             _pad0: 0,
+            _pad1: 0,
+            _pad2: 0,
         }
     }
 }
@@ -312,7 +323,7 @@ impl GpuInstance {
             light_shape: 0,
             first_uv: NO_VERTEX_DATA,
             first_color: NO_VERTEX_DATA,
-            _pad0: 0,
+            first_tangent: NO_VERTEX_DATA,
             _pad1: 0,
         }
     }
@@ -671,7 +682,7 @@ pub fn gpu_structs() -> Vec<HostLayout> {
                 light_shape,
                 first_uv,
                 first_color,
-                _pad0,
+                first_tangent,
                 _pad1
             ]
         ),
@@ -685,7 +696,16 @@ pub fn gpu_structs() -> Vec<HostLayout> {
         host_layout!(
             GpuMaterialTextures,
             "GpuMaterialTextures",
-            [albedo, metallic_roughness, emission, _pad0]
+            [
+                albedo,
+                metallic_roughness,
+                emission,
+                normal,
+                normal_scale,
+                _pad0,
+                _pad1,
+                _pad2
+            ]
         ),
         host_layout!(
             GpuShadow,

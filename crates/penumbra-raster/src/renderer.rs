@@ -450,6 +450,7 @@ impl ForwardRenderer {
                 storage_entry(27, fragment, true),
                 storage_entry(28, fragment, true),
                 storage_entry(29, fragment, true),
+                storage_entry(30, wgpu::ShaderStages::VERTEX, true),
                 env[0],
                 env[1],
                 env[2],
@@ -524,39 +525,17 @@ impl ForwardRenderer {
         // (the same @invariant clip positions as vs_depth).
         let with_normals = [Some(vec3_buffer(0)), Some(vec3_buffer(1))];
         let ao_on = options.ao.enabled();
-        let depth_pipeline = build_pipeline(
-            device,
-            &module,
-            &pipeline_layout,
-            PipelineSpec {
-                label: "depth prepass",
-                vs: if ao_on { "vs_main" } else { "vs_depth" },
-                fs: ao_on.then_some("fs_ao_prepass"),
-                buffers: if ao_on { &with_normals } else { &position_only },
-                depth: depth_state(
-                    true,
-                    wgpu::CompareFunction::Greater,
-                    Default::default(),
-                    depth_format,
-                ),
-                blend: None,
-                samples: msaa,
-                constants: &[],
-                color: true,
-            },
-        );
-        // Scenes with culled back faces (glTF doubleSided: false): a
-        // prepass that discards them (the AO prepass always checks).
-        let depth_culled_pipeline = (!ao_on).then(|| {
+        // The prepass: depth written, nearer (reversed depth) wins.
+        let prepass = |label, vs, fs, buffers, color| {
             build_pipeline(
                 device,
                 &module,
                 &pipeline_layout,
                 PipelineSpec {
-                    label: "depth prepass (culled back faces)",
-                    vs: "vs_depth_culled",
-                    fs: Some("fs_depth_culled"),
-                    buffers: &position_only,
+                    label,
+                    vs,
+                    fs,
+                    buffers,
                     depth: depth_state(
                         true,
                         wgpu::CompareFunction::Greater,
@@ -566,8 +545,30 @@ impl ForwardRenderer {
                     blend: None,
                     samples: msaa,
                     constants: &[],
-                    color: false,
+                    color,
                 },
+            )
+        };
+        let depth_pipeline = if ao_on {
+            prepass(
+                "depth prepass",
+                "vs_main",
+                Some("fs_ao_prepass"),
+                &with_normals,
+                true,
+            )
+        } else {
+            prepass("depth prepass", "vs_depth", None, &position_only, true)
+        };
+        // Scenes with culled back faces (glTF doubleSided: false): a
+        // prepass that discards them (the AO prepass always checks).
+        let depth_culled_pipeline = (!ao_on).then(|| {
+            prepass(
+                "depth prepass (culled back faces)",
+                "vs_depth_culled",
+                Some("fs_depth_culled"),
+                &position_only,
+                false,
             )
         });
         // Emission and ambient light only: no material model needed.
@@ -1017,6 +1018,7 @@ impl ForwardRenderer {
                 whole(27, &gpu.textures),
                 whole(28, &gpu.texels),
                 whole(29, &gpu.material_textures),
+                whole(30, &gpu.vertex_tangents),
                 wgpu::BindGroupEntry {
                     binding: SCREEN_AO_BINDING,
                     resource: wgpu::BindingResource::TextureView(

@@ -183,6 +183,9 @@ pub(crate) struct SceneGpu {
     /// that has them, at `GpuInstance::first_uv` / `first_color`.
     pub vertex_uvs: wgpu::Buffer,
     pub vertex_colors: wgpu::Buffer,
+    /// Tangents (xyz, w = handedness) of meshes that have them, at
+    /// `GpuInstance::first_tangent`.
+    pub vertex_tangents: wgpu::Buffer,
     /// The texture table, its texels and each material's textures
     /// ([`crate::textures::TextureTable`]).
     pub textures: wgpu::Buffer,
@@ -241,8 +244,10 @@ impl SceneGpu {
         // Per mesh: first vertex in the UV and colour buffers.
         let mut uvs: Vec<[f32; 2]> = Vec::new();
         let mut colors: Vec<[f32; 4]> = Vec::new();
+        let mut tangents: Vec<[f32; 4]> = Vec::new();
         let mut first_uv = Vec::new();
         let mut first_color = Vec::new();
+        let mut first_tangent = Vec::new();
         let meshes = scene
             .meshes
             .iter()
@@ -250,6 +255,7 @@ impl SceneGpu {
             .map(|m| {
                 first_uv.push(NO_VERTEX_DATA);
                 first_color.push(NO_VERTEX_DATA);
+                first_tangent.push(NO_VERTEX_DATA);
                 if m.indices.is_empty() || m.positions.is_empty() {
                     return None;
                 }
@@ -263,6 +269,10 @@ impl SceneGpu {
                 if let Some(uv) = m.uv0.as_ref().filter(|uv| uv.len() == m.positions.len()) {
                     *first_uv.last_mut().unwrap() = uvs.len() as u32;
                     uvs.extend(uv.iter().map(|t| t.to_array()));
+                }
+                if let Some(t) = m.tangents.as_ref().filter(|t| t.len() == m.positions.len()) {
+                    *first_tangent.last_mut().unwrap() = tangents.len() as u32;
+                    tangents.extend(t.iter().map(|t| t.to_array()));
                 }
                 if let Some(c) = m.colors.as_ref().filter(|c| c.len() == m.positions.len()) {
                     *first_color.last_mut().unwrap() = colors.len() as u32;
@@ -300,6 +310,7 @@ impl SceneGpu {
         for (i, inst) in scene.instances.iter().enumerate() {
             instances[i].first_uv = first_uv[inst.mesh];
             instances[i].first_color = first_color[inst.mesh];
+            instances[i].first_tangent = first_tangent[inst.mesh];
         }
         for k in 0..data.emitters.len() {
             let i = scene.instances.len() + k;
@@ -312,6 +323,9 @@ impl SceneGpu {
         }
         if colors.is_empty() {
             colors.push([1.0; 4]);
+        }
+        if tangents.is_empty() {
+            tangents.push([0.0; 4]);
         }
         let casters = draws.len();
         let (first_instance, first_mesh) = (scene.instances.len(), scene.meshes.len());
@@ -352,6 +366,12 @@ impl SceneGpu {
                 device,
                 "vertex colours",
                 bytemuck::cast_slice(&colors),
+                storage,
+            ),
+            vertex_tangents: buffer_init(
+                device,
+                "vertex tangents",
+                bytemuck::cast_slice(&tangents),
                 storage,
             ),
             textures: buffer_init(
@@ -446,6 +466,12 @@ fn unweld(mesh: &penumbra_scene::Mesh) -> penumbra_scene::Mesh {
                 .collect()
         }),
         uv1: None,
+        tangents: mesh.tangents.as_deref().map(|t| {
+            mesh.indices
+                .iter()
+                .flat_map(|tri| tri.map(|i| t[i as usize]))
+                .collect()
+        }),
         colors: mesh.colors.as_deref().map(corners),
         indices: (0..mesh.indices.len() as u32)
             .map(|t| [3 * t, 3 * t + 1, 3 * t + 2])

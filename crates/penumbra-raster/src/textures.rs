@@ -119,7 +119,9 @@ impl TextureTable {
                 albedo: slot(m.albedo_texture),
                 metallic_roughness: slot(m.metallic_roughness_texture),
                 emission: slot(m.emission_texture),
-                _pad0: 0,
+                normal: slot(m.normal_map.map(|n| n.texture)),
+                normal_scale: m.normal_map.map_or(1.0, |n| n.scale),
+                ..Default::default()
             })
             .collect();
         let mut order: Vec<(TextureId, u32)> = used.into_iter().collect();

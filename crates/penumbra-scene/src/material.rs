@@ -30,6 +30,40 @@ pub struct Material {
     /// Camera rays pass through the back faces (glTF `doubleSided: false`:
     /// back-face culling). Other rays still meet them, one-sided.
     pub cull_back_faces: bool,
+    /// Tangent-space normal map on UV set 0 (glTF `normalTexture`).
+    pub normal_map: Option<NormalMap>,
+}
+
+/// A tangent-space normal map (glTF `normalTexture`, linear data): the
+/// shading normal is `normalize(T x + B y + N z)` with `(x, y, z) =
+/// (2 texel − 1) · (scale, scale, 1)`, T the mesh tangent, B = w · N × T,
+/// N the interpolated normal (OpenGL's convention: +y along +v's tangent
+/// frame, green up).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NormalMap {
+    pub texture: TextureId,
+    pub scale: f32,
+}
+
+impl NormalMap {
+    /// The shading normal for a texel `texel` (in [0, 1]³) in the frame of
+    /// unit normal `n` and tangent `t` (xyz, w = handedness); `n` itself
+    /// when the frame is degenerate.
+    pub fn perturb(&self, texel: glam::Vec3, n: glam::Vec3, t: glam::Vec4) -> glam::Vec3 {
+        let m = (2.0 * texel - 1.0) * glam::Vec3::new(self.scale, self.scale, 1.0);
+        // Gram–Schmidt: the tangent made orthogonal to n.
+        let tangent = (t.truncate() - n * n.dot(t.truncate())).normalize_or_zero();
+        if tangent == glam::Vec3::ZERO {
+            return n;
+        }
+        let bitangent = n.cross(tangent) * if t.w < 0.0 { -1.0 } else { 1.0 };
+        let mapped = (tangent * m.x + bitangent * m.y + n * m.z).normalize_or_zero();
+        if mapped == glam::Vec3::ZERO {
+            n
+        } else {
+            mapped
+        }
+    }
 }
 
 impl Material {
@@ -44,6 +78,7 @@ impl Material {
             emission_texture: None,
             double_sided: true,
             cull_back_faces: false,
+            normal_map: None,
         }
     }
 
@@ -78,5 +113,44 @@ impl Material {
 
     pub fn is_emissive(&self) -> bool {
         self.emission.max_element() > 0.0
+    }
+}
+
+#[cfg(test)]
+mod normal_map_tests {
+    use super::*;
+    use glam::{Vec3, Vec4};
+
+    #[test]
+    fn perturb_follows_tangent_bitangent_and_normal() {
+        let map = |scale| NormalMap { texture: 0, scale };
+        let n = Vec3::Z;
+        let t = Vec4::new(2.0, 0.0, 0.5, 1.0); // not unit, not orthogonal to n
+        let close = |a: Vec3, b: Vec3| (a - b).length() < 1e-6;
+        // The flat texel (½, ½, 1) keeps n.
+        assert!(close(map(1.0).perturb(Vec3::new(0.5, 0.5, 1.0), n, t), n));
+        // Red full: along the tangent (x after Gram–Schmidt); green full:
+        // along w · n × t = +y, or −y when w = −1.
+        assert!(close(
+            map(1.0).perturb(Vec3::new(1.0, 0.5, 0.5), n, t),
+            Vec3::X
+        ));
+        assert!(close(
+            map(1.0).perturb(Vec3::new(0.5, 1.0, 0.5), n, t),
+            Vec3::Y
+        ));
+        let left = Vec4::new(2.0, 0.0, 0.5, -1.0);
+        assert!(close(
+            map(1.0).perturb(Vec3::new(0.5, 1.0, 0.5), n, left),
+            -Vec3::Y
+        ));
+        // scale multiplies x and y: (0.25 · 2, 0, 0.5) → 45° towards x.
+        let m = map(2.0).perturb(Vec3::new(0.625, 0.5, 0.75), n, t);
+        assert!(close(m, Vec3::new(1.0, 0.0, 1.0).normalize()), "{m}");
+        // A tangent along n gives no frame: n.
+        assert!(close(
+            map(1.0).perturb(Vec3::new(1.0, 0.5, 0.5), n, Vec4::new(0.0, 0.0, 1.0, 1.0)),
+            n
+        ));
     }
 }

@@ -23,6 +23,10 @@ pub struct Mesh {
     /// Per-vertex colours (glTF COLOR_0, linear RGB, alpha dropped):
     /// they multiply the material's base colour.
     pub colors: Option<Vec<Rgb>>,
+    /// Per-vertex tangents of UV set 0 for normal maps (glTF TANGENT, or
+    /// MikkTSpace): xyz along +u, w = ±1 the handedness (bitangent =
+    /// w · normal × tangent).
+    pub tangents: Option<Vec<glam::Vec4>>,
     /// Counter-clockwise triangles: front = geometric normal (v1−v0)×(v2−v0).
     pub indices: Vec<[u32; 3]>,
     pub material: MaterialId,
@@ -51,6 +55,7 @@ impl Mesh {
             ("uv0", self.uv0.as_ref().map(Vec::len)),
             ("uv1", self.uv1.as_ref().map(Vec::len)),
             ("colors", self.colors.as_ref().map(Vec::len)),
+            ("tangents", self.tangents.as_ref().map(Vec::len)),
         ] {
             if let Some(len) = len
                 && len != n

@@ -7,7 +7,7 @@ use crate::ray::Ray;
 
 /// Culled back faces a camera ray passes through before it gives up.
 pub const MAX_CULLED_LAYERS: usize = 64;
-use glam::{Mat3, Vec2, Vec3};
+use glam::{Mat3, Vec2, Vec3, Vec4};
 use penumbra_scene::{MaterialId, Scene};
 use penumbra_shading::light::AreaLight;
 
@@ -237,6 +237,22 @@ impl SceneGeometry {
             }
             None => Vec2::new(b1, b2),
         }
+    }
+
+    /// The mesh tangent of `triangle` at barycentrics (b1, b2) in world
+    /// space (xyz, not normalised; w = ±1 the handedness, flipped by
+    /// mirroring transforms), or `None` when the mesh has no tangents.
+    pub fn tangent_at(&self, scene: &Scene, triangle: u32, b1: f32, b2: f32) -> Option<Vec4> {
+        let src = self.sources[triangle as usize];
+        let inst = &scene.instances[src.instance as usize];
+        let mesh = &scene.meshes[inst.mesh];
+        let t = mesh.tangents.as_ref()?;
+        let [i0, i1, i2] = mesh.indices[src.local as usize].map(|i| i as usize);
+        let along =
+            t[i0].truncate() * (1.0 - b1 - b2) + t[i1].truncate() * b1 + t[i2].truncate() * b2;
+        let w =
+            if t[i0].w < 0.0 { -1.0 } else { 1.0 } * self.instances[src.instance as usize].winding;
+        Some((Mat3::from_mat4(inst.transform) * along).extend(w))
     }
 
     fn surface_at(&self, scene: &Scene, hit: &Hit) -> SurfaceHit {

@@ -2,7 +2,8 @@
 //! albedo layer (the colour a surface reflects, independent of the light):
 //! the sampler wrap modes (TextureSettingsTest), KHR_texture_transform
 //! (TextureTransformTest) and COLOR_0 (VertexColorTest). Each sheet shows a
-//! mark of a known colour where a feature fails; the tests count them.
+//! mark of a known colour where a feature fails; the tests count them. And
+//! normal maps through the normal layer (NormalTangentTest).
 
 use glam::Vec3;
 use penumbra_scene::{Camera, IntegratorKind, LoadOptions, Projection, load_scene};
@@ -64,6 +65,11 @@ fn wrap_modes_show_no_red_marks() {
 /// The albedo of a glTF sample seen head-on (orthographic, along −z, the
 /// sheet filling the image), `height` pixels high.
 fn albedo_head_on(model: &str, height: u32) -> penumbra_image::Image {
+    aov_head_on(model, height, "albedo")
+}
+
+/// An AOV (`albedo`, `normal`) of a glTF sample seen head-on.
+fn aov_head_on(model: &str, height: u32, aov: &str) -> penumbra_image::Image {
     let file = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../../../shared/gltf-samples")
         .join(model);
@@ -89,7 +95,120 @@ fn albedo_head_on(model: &str, height: u32) -> penumbra_image::Image {
             ..Default::default()
         },
     );
-    out.aovs.into_iter().find(|(n, _)| n == "albedo").unwrap().1
+    out.aovs.into_iter().find(|(n, _)| n == aov).unwrap().1
+}
+
+/// NormalTangentTest: each of its 15 pairs shows a bump made of geometry
+/// (left) beside a flat quad whose normal map (and UVs turned a different
+/// way in each row) reproduces it (right). Seen head-on, the shading
+/// normals of each right bump vary across it as the left one's do: the
+/// first moments of (n_x, n_y) against (x, y) about each bump's centre
+/// agree within 25 % of their size. A flipped green channel, a tangent
+/// frame built on glTF's downward v, or a missing normal map each turn
+/// or zero a pair's moments.
+#[test]
+fn normal_maps_shade_like_the_geometry_they_replace() {
+    let normals = aov_head_on(
+        "NormalTangentTest/glTF-Binary/NormalTangentTest.glb",
+        300,
+        "normal",
+    );
+    let (w, h) = (normals.width as usize, normals.height as usize);
+    // Bumps: surface pixels (the background has no normal) whose normal
+    // leans more than ~8° from +z, grouped into
+    // 4-connected blobs.
+    let tilted: Vec<bool> = normals
+        .pixels
+        .iter()
+        .map(|n| n.z < 0.99 && n.length() > 0.5)
+        .collect();
+    let mut blob = vec![usize::MAX; w * h];
+    let mut blobs: Vec<Vec<usize>> = Vec::new();
+    for start in 0..w * h {
+        if !tilted[start] || blob[start] != usize::MAX {
+            continue;
+        }
+        let id = blobs.len();
+        let mut members = vec![start];
+        blob[start] = id;
+        let mut k = 0;
+        while k < members.len() {
+            let p = members[k];
+            k += 1;
+            let (x, y) = (p % w, p / w);
+            let around = [
+                (x > 0).then(|| p - 1),
+                (x + 1 < w).then(|| p + 1),
+                (y > 0).then(|| p - w),
+                (y + 1 < h).then(|| p + w),
+            ];
+            for q in around.into_iter().flatten() {
+                if tilted[q] && blob[q] == usize::MAX {
+                    blob[q] = id;
+                    members.push(q);
+                }
+            }
+        }
+        blobs.push(members);
+    }
+    blobs.retain(|b| b.len() > 50);
+    assert_eq!(
+        blobs.len(),
+        30,
+        "bumps found: {:?}",
+        blobs.iter().map(Vec::len).collect::<Vec<_>>()
+    );
+    // Per bump: centroid and the moments [Σ n_x dx, Σ n_x dy, Σ n_y dx, Σ n_y dy] / Σ (dx² + dy²).
+    let stats: Vec<(f32, f32, [f32; 4])> = blobs
+        .iter()
+        .map(|b| {
+            let c = |f: fn(usize, usize) -> usize| {
+                b.iter().map(|&p| f(p, w) as f32).sum::<f32>() / b.len() as f32
+            };
+            let (cx, cy) = (c(|p, w| p % w), c(|p, w| p / w));
+            let mut m = [0.0f32; 4];
+            let mut norm = 0.0;
+            for &p in b {
+                let (dx, dy) = ((p % w) as f32 - cx, (p / w) as f32 - cy);
+                let n = normals.pixels[p];
+                m[0] += n.x * dx;
+                m[1] += n.x * dy;
+                m[2] += n.y * dx;
+                m[3] += n.y * dy;
+                norm += dx * dx + dy * dy;
+            }
+            (cx, cy, m.map(|v| v / norm.sqrt()))
+        })
+        .collect();
+    // Rows by centroid height, then left to right: (geometry, map) pairs.
+    let mut order: Vec<usize> = (0..stats.len()).collect();
+    order.sort_by(|&a, &b| stats[a].1.total_cmp(&stats[b].1));
+    let mut worst = 0.0f32;
+    for row in order.chunks(6) {
+        let mut row = row.to_vec();
+        row.sort_by(|&a, &b| stats[a].0.total_cmp(&stats[b].0));
+        for pair in row.chunks(2) {
+            let (geometry, mapped) = (stats[pair[0]].2, stats[pair[1]].2);
+            let size = geometry.iter().map(|v| v * v).sum::<f32>().sqrt();
+            let diff = geometry
+                .iter()
+                .zip(&mapped)
+                .map(|(a, b)| (a - b).powi(2))
+                .sum::<f32>()
+                .sqrt();
+            worst = worst.max(diff / size);
+            assert!(
+                size > 0.05 && diff < 0.25 * size,
+                "bump at ({:.0}, {:.0}): geometry moments {geometry:?}, normal map {mapped:?}",
+                stats[pair[1]].0,
+                stats[pair[1]].1
+            );
+        }
+    }
+    eprintln!(
+        "normal maps: worst moment difference {:.1} % of the geometry's",
+        100.0 * worst
+    );
 }
 
 /// Khronos' TextureTransformTest (KHR_texture_transform), top row: three

@@ -105,6 +105,8 @@ struct VsOut {
     // Texture coordinates (UV set 0) and vertex colour (textures.wgsl).
     @location(5) uv: vec2<f32>,
     @location(6) color: vec3<f32>,
+    // World tangent of UV set 0 (w = handedness; 0 without tangents).
+    @location(7) tangent: vec4<f32>,
 }
 
 // Whether a fragment of `instance` on the side `facing` is a culled back
@@ -171,6 +173,7 @@ fn vs_main(
     out.irradiance_uv = irradiance_corner_uv(instance, corner);
     out.uv = vertex_uv(inst, corner);
     out.color = vertex_color(inst, corner);
+    out.tangent = vertex_tangent(inst, corner);
     return out;
 }
 
@@ -269,7 +272,11 @@ fn surface_of(in: VsOut, facing: bool, ng_raw: vec3<f32>, duv: vec4<f32>) -> Sur
 
     let n = visible_normals(in, wo, ng_raw);
     s.ng = n.ng;
-    s.frame = frame_from_normal(n.ns);
+    // Normal maps act on the front side's normals (the CPU's order), then
+    // the result turns to the viewer's side with them.
+    let side = select(-1.0, 1.0, front);
+    let ns = side * normal_mapped(inst.material, in.uv, duv, in.tangent, side * n.ns, side * n.ng);
+    s.frame = frame_from_normal(ns);
     var wo_local = to_local(s.frame, wo);
     if wo_local.z <= 0.0 {
         wo_local.z = 1e-4;

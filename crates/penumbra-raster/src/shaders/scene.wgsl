@@ -24,11 +24,11 @@ struct GpuInstance {
     flip_winding: u32,
     // 1: the emitter of an analytic area light (a light, not a surface).
     light_shape: u32,
-    // First vertex of the mesh in vertex_uvs / vertex_colors
-    // (textures.wgsl); 0xffffffff: the mesh has none.
+    // First vertex of the mesh in vertex_uvs / vertex_colors /
+    // vertex_tangents (textures.wgsl); 0xffffffff: the mesh has none.
     first_uv: u32,
     first_color: u32,
-    _pad0: u32,
+    first_tangent: u32,
     _pad1: u32,
 }
 

@@ -12,6 +12,8 @@
 // Every level of every texture: IEEE halves (r | g << 16, b).
 @group(0) @binding(28) var<storage, read> texels: array<vec2<u32>>;
 @group(0) @binding(29) var<storage, read> material_textures: array<GpuMaterialTextures>;
+// Per vertex: tangent of UV set 0 (xyz) and handedness (w = ±1).
+@group(0) @binding(30) var<storage, read> vertex_tangents: array<vec4<f32>>;
 
 // One texture's mip chain in `texels`, level 0 first, each level
 // row-major from the top row.
@@ -33,7 +35,11 @@ struct GpuMaterialTextures {
     albedo: u32,
     metallic_roughness: u32,
     emission: u32,
+    normal: u32,
+    normal_scale: f32,
     _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
 }
 
 const NO_TEXTURE: u32 = 0xffffffffu;
@@ -157,6 +163,49 @@ fn vertex_color(inst: GpuInstance, vertex: u32) -> vec3<f32> {
         return vec3<f32>(1.0);
     }
     return vertex_colors[inst.first_color + vertex].xyz;
+}
+
+// The world tangent of vertex `vertex` (w = handedness, flipped by
+// mirroring transforms); w = 0 without tangents.
+fn vertex_tangent(inst: GpuInstance, vertex: u32) -> vec4<f32> {
+    if inst.first_tangent == NO_VERTEX_DATA {
+        return vec4<f32>(0.0);
+    }
+    let t = vertex_tangents[inst.first_tangent + vertex];
+    let w = select(1.0, -1.0, t.w < 0.0) * select(1.0, -1.0, inst.flip_winding != 0u);
+    return vec4<f32>((inst.model * vec4<f32>(t.xyz, 0.0)).xyz, w);
+}
+
+// NormalMap::perturb: normalize(T x + B y + N z), (x, y, z) = (2 texel − 1)
+// · (scale, scale, 1), T the tangent made orthogonal to the unit normal n,
+// B = w · n × T; n when the frame is degenerate.
+fn perturb_normal(texel: vec3<f32>, scale: f32, n: vec3<f32>, t: vec4<f32>) -> vec3<f32> {
+    let m = (2.0 * texel - 1.0) * vec3<f32>(scale, scale, 1.0);
+    var tangent = t.xyz - n * dot(n, t.xyz);
+    let l2 = dot(tangent, tangent);
+    if !(l2 > 0.0) || l2 > 3.0e38 {
+        return n;
+    }
+    tangent = tangent * inverseSqrt(l2);
+    let b = cross(n, tangent) * select(1.0, -1.0, t.w < 0.0);
+    let mapped = tangent * m.x + b * m.y + n * m.z;
+    let ml2 = dot(mapped, mapped);
+    if !(ml2 > 0.0) || ml2 > 3.0e38 {
+        return n;
+    }
+    return mapped * inverseSqrt(ml2);
+}
+
+// The shading normal of material `material` on the front side (ns_front,
+// ng_front: the normals on the side the winding calls front), normal-mapped
+// as the CPU does: kept only on the geometric normal's side.
+fn normal_mapped(material: u32, uv: vec2<f32>, duv: vec4<f32>, t: vec4<f32>, ns_front: vec3<f32>, ng_front: vec3<f32>) -> vec3<f32> {
+    let tx = material_textures[material];
+    if tx.normal == NO_TEXTURE || t.w == 0.0 {
+        return ns_front;
+    }
+    let mapped = perturb_normal(sample_texture(tx.normal, uv, duv), tx.normal_scale, ns_front, t);
+    return select(ns_front, mapped, dot(mapped, ng_front) > 0.0);
 }
 
 struct TexturedMaterial {

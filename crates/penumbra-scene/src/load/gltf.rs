@@ -337,6 +337,9 @@ fn load_buffers<'a>(
 #[derive(Debug, Default)]
 struct Notes {
     skipped_modes: Vec<String>,
+    /// Primitives whose normal map has no tangent frame (no NORMAL or no
+    /// TEXCOORD_0 to build one).
+    no_tangent_frame: Vec<String>,
     morph_targets: Vec<String>,
     skins: Vec<usize>,
     singular: Vec<usize>,
@@ -758,6 +761,21 @@ impl Loader<'_> {
             }
         }
         let [uv0, uv1] = uvs;
+        let tangents = match attr(Semantic::Tangents) {
+            Some(a) => {
+                let usage = format!("{base}.attributes.TANGENT");
+                let v = self.read_vec4(a, &usage)?;
+                count_check("TANGENT", v.len())?;
+                if let Some(i) = v.iter().position(|t| !t.is_finite()) {
+                    return Err(self.err(
+                        usage,
+                        format!("vertex {i} has a non-finite tangent (accessors[{a}])"),
+                    ));
+                }
+                Some(v)
+            }
+            None => None,
+        };
         let colors = match attr(Semantic::Colors(0)) {
             Some(a) => {
                 let usage = format!("{base}.attributes.COLOR_0");
@@ -809,6 +827,7 @@ impl Loader<'_> {
             uv0,
             uv1,
             colors,
+            tangents,
             indices: triangles,
             material,
         };
@@ -836,6 +855,15 @@ impl Loader<'_> {
         if out.indices.is_empty() {
             return Ok(None);
         }
+        // A normal map needs a tangent frame: MikkTSpace when the file has
+        // no TANGENT (as glTF asks), which needs normals and TEXCOORD_0.
+        if self.scene.materials[material].normal_map.is_some() && out.tangents.is_none() {
+            if out.normals.is_some() && out.uv0.is_some() {
+                out.tangents = Some(crate::tangents::mikktspace_tangents(&out));
+            } else {
+                self.notes.no_tangent_frame.push(base.clone());
+            }
+        }
         self.scene.meshes.push(out);
         Ok(Some(self.scene.meshes.len() - 1))
     }
@@ -849,6 +877,12 @@ impl Loader<'_> {
             w.push(format!(
                 "{f}: skipped {} degenerate triangle(s) (zero area)",
                 self.degenerate
+            ));
+        }
+        if !n.no_tangent_frame.is_empty() {
+            w.push(format!(
+                "{f}: normal map not applied (no NORMAL or TEXCOORD_0 to build a tangent frame from) on {}",
+                list(&n.no_tangent_frame)
             ));
         }
         if !n.skipped_modes.is_empty() {

@@ -171,6 +171,7 @@ fn load_obj_text(path: &Path, text: &str, options: &LoadOptions) -> Result<Scene
             normals,
             uv0,
             uv1: None,
+            tangents: None,
             colors: None,
             indices: m
                 .indices

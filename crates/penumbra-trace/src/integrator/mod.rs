@@ -87,6 +87,19 @@ impl TraceContext<'_> {
             m.metallic *= texel.z;
             bsdf = Bsdf::MetallicRoughness(m);
         }
+        // glTF normalTexture: the shading normal from the map in the mesh's
+        // tangent frame (kept only on the geometric normal's side).
+        if let Some(map) = material.normal_map
+            && let Some(t) = self
+                .geometry
+                .tangent_at(self.scene, hit.triangle, hit.b1, hit.b2)
+        {
+            let texel = self.scene.textures[map.texture].sample(hit.uv);
+            let mapped = map.perturb(texel, ns, t);
+            if mapped.dot(ng) > 0.0 {
+                ns = mapped;
+            }
+        }
         if ng.dot(wo) < 0.0 {
             if !material.double_sided && !bsdf.flags().transmission {
                 return None;

@@ -360,6 +360,12 @@ impl Loader<'_> {
             .collect())
     }
 
+    /// VEC4 floats (glTF TANGENT: xyz and the handedness w).
+    pub(super) fn read_vec4(&self, i: usize, usage: &str) -> Result<Vec<glam::Vec4>, SceneError> {
+        let f = self.read_floats(i, usage, Type::Vec4)?;
+        Ok(f.chunks_exact(4).map(glam::Vec4::from_slice).collect())
+    }
+
     pub(super) fn read_vec2(&self, i: usize, usage: &str) -> Result<Vec<glam::Vec2>, SceneError> {
         let f = self.read_floats(i, usage, Type::Vec2)?;
         Ok(f.chunks_exact(2)

@@ -21,8 +21,11 @@
 //! per texture; filters are not (the CPU's lookups are bilinear, the
 //! raster engine's trilinear between its own mip levels).
 //!
+//! `normalTexture` with its `scale` (tangents: TANGENT, else MikkTSpace;
+//! see [`crate::tangents`]).
+//!
 //! Still ignored, with ONE warning per material listing it: alpha modes,
-//! `normalTexture`, `occlusionTexture`,
+//! `occlusionTexture`,
 //! `transmissionTexture`, `specularTexture`, `specularColorTexture`, other
 //! TEXCOORD sets and other extensions (`KHR_texture_transform` is applied);
 //! factors outside
@@ -32,7 +35,7 @@ use super::Loader;
 use super::container::decode_data_uri;
 use super::texture::decode_texture;
 use crate::error::{Location, SceneError};
-use crate::material::{Material, MaterialId};
+use crate::material::{Material, MaterialId, NormalMap};
 use crate::paths::resolve_uri;
 use crate::texture::Texture;
 use crate::texture::{TextureId, Wrap};
@@ -234,9 +237,6 @@ impl Loader<'_> {
             }
             Checked::Invalid => {}
         }
-        if m.normal_texture.is_some() {
-            notes.push("normalTexture ignored".into());
-        }
         if m.occlusion_texture.is_some() {
             notes.push("occlusionTexture ignored".into());
         }
@@ -297,6 +297,27 @@ impl Loader<'_> {
             _ => None,
         };
 
+        // normalTexture (linear data, on the mesh's TEXCOORD_0 tangent frame).
+        let normal_map = match &m.normal_texture {
+            Some(info) => {
+                let info_json = &raw["normalTexture"];
+                let transform =
+                    texture_transform(info_json, info.tex_coord, "normalTexture", &mut notes);
+                let scale = info.scale;
+                if !scale.is_finite() {
+                    return Err(SceneError::at_path(
+                        self.file,
+                        format!("{path}.normalTexture.scale"),
+                        "scale is not finite",
+                    ));
+                }
+                Some(NormalMap {
+                    texture: self.data_texture(info.index.value(), transform, &mut notes)?,
+                    scale,
+                })
+            }
+            None => None,
+        };
         if !notes.is_empty() {
             self.scene.warnings.push(format!(
                 "{}: material '{name}' ({path}): {}",
@@ -330,6 +351,7 @@ impl Loader<'_> {
                 emission_texture: albedo_texture,
                 double_sided: m.double_sided,
                 cull_back_faces: !m.double_sided,
+                normal_map: None,
             });
             self.materials.insert(i, id);
             return Ok(id);
@@ -337,6 +359,7 @@ impl Loader<'_> {
         let id = self.scene.add_material(Material {
             name,
             bsdf,
+            normal_map,
             albedo_texture,
             metallic_roughness_texture,
             emission,

@@ -406,6 +406,7 @@ impl ObjLoader<'_> {
             // Dielectrics are crossed both ways.
             double_sided: refracting || !emissive,
             cull_back_faces: false,
+            normal_map: None,
         }))
     }
 }

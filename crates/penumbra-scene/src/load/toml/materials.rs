@@ -143,6 +143,7 @@ fn material(doc: &Doc<'_>, path: &str, raw: &RawMaterial) -> Result<Material, Sc
         emission_texture: None,
         double_sided,
         cull_back_faces: false,
+        normal_map: None,
     })
 }
 
