@@ -267,12 +267,13 @@ pub struct GpuTexture {
     pub width: u32,
     pub height: u32,
     pub levels: u32,
-    /// Index in the texel buffer of level 0's first texel.
+    /// Index in the texel buffer (of words) of level 0's first texel.
     pub first: u32,
     /// Wrap modes along u and v: [`WRAP_REPEAT`], [`WRAP_CLAMP`], [`WRAP_MIRROR`].
     pub wrap_u: u32,
     pub wrap_v: u32,
-    pub _pad0: u32,
+    /// [`crate::textures::TexelFormat`] of every level.
+    pub format: u32,
     pub _pad1: u32,
 }
 
@@ -292,9 +293,11 @@ pub struct GpuMaterialTextures {
     /// normal).
     pub normal: u32,
     pub normal_scale: f32,
+    /// Baked ambient occlusion (R) and its strength: the environment term
+    /// times `1 + strength · (R − 1)`.
+    pub occlusion: u32,
+    pub occlusion_strength: f32,
     pub _pad0: u32,
-    pub _pad1: u32,
-    pub _pad2: u32,
 }
 
 impl Default for GpuMaterialTextures {
@@ -305,9 +308,9 @@ impl Default for GpuMaterialTextures {
             emission: NO_TEXTURE,
             normal: NO_TEXTURE,
             normal_scale: 1.0,
+            occlusion: NO_TEXTURE,
+            occlusion_strength: 1.0,
             _pad0: 0,
-            _pad1: 0,
-            _pad2: 0,
         }
     }
 }
@@ -690,7 +693,7 @@ pub fn gpu_structs() -> Vec<HostLayout> {
             GpuTexture,
             "GpuTexture",
             [
-                u_row, v_row, width, height, levels, first, wrap_u, wrap_v, _pad0, _pad1
+                u_row, v_row, width, height, levels, first, wrap_u, wrap_v, format, _pad1
             ]
         ),
         host_layout!(
@@ -702,9 +705,9 @@ pub fn gpu_structs() -> Vec<HostLayout> {
                 emission,
                 normal,
                 normal_scale,
-                _pad0,
-                _pad1,
-                _pad2
+                occlusion,
+                occlusion_strength,
+                _pad0
             ]
         ),
         host_layout!(

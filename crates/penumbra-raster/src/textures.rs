@@ -1,15 +1,19 @@
 //! Textures of the raster engine: the mip chain of every texture a material
-//! uses, packed into one storage buffer of half-float texels and sampled in
-//! WGSL (`shaders/textures.wgsl`) as the CPU samples
+//! uses, packed into one storage buffer of texels and sampled in WGSL
+//! (`shaders/textures.wgsl`) as the CPU samples
 //! [`penumbra_scene::Texture`]: the same wrap modes, the same bilinear
 //! filter at level 0, the same `KHR_texture_transform`. Minified textures
 //! are filtered trilinearly between box-filtered levels (a pixel of the
 //! CPU averages many samples over its footprint; one raster sample must
 //! read a prefiltered level to give that average instead of aliasing).
 //!
-//! Texel storage: two words of IEEE halves, `r | g << 16` and `b`
-//! (relative error ≤ 2⁻¹¹, values clamped to ±65504).
-
+//! Texel storage ([`TexelFormat`]), chosen per texture from its level 0:
+//! - 8-bit sources (PNG, JPEG) as one word per texel, `unpack4x8unorm`
+//!   decoded, through the sRGB curve for colour textures: level 0 reads
+//!   back what the CPU reads (within 10⁻⁶), the box-filtered levels below
+//!   are rounded to 8 bits as GPUs store sRGB8 mip chains;
+//! - anything else as two words of IEEE halves, `r | g << 16` and `b`
+//!   (relative error ≤ 2⁻¹¹, values clamped to ±65504).
 use crate::gpu::{
     GpuMaterialTextures, GpuTexture, NO_TEXTURE, WRAP_CLAMP, WRAP_MIRROR, WRAP_REPEAT,
 };
@@ -17,10 +21,67 @@ use half::f16;
 use penumbra_scene::texture::Wrap;
 use penumbra_scene::{Scene, Texture, TextureId};
 use penumbra_shading::Rgb;
+use penumbra_shading::color::{linear_to_srgb, srgb_to_linear};
 use std::collections::BTreeMap;
 
-/// Bytes of one packed texel.
-pub const TEXEL_BYTES: u64 = 8;
+/// How a texture's texels are stored (WGSL `TEXEL_*`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TexelFormat {
+    /// Two words: IEEE halves (r, g), (b).
+    Half = 0,
+    /// One word of 8-bit sRGB-encoded r, g, b.
+    Srgb8 = 1,
+    /// One word of 8-bit linear r, g, b.
+    Unorm8 = 2,
+}
+
+impl TexelFormat {
+    /// Words per texel.
+    pub fn words(self) -> u64 {
+        match self {
+            TexelFormat::Half => 2,
+            _ => 1,
+        }
+    }
+
+    /// The format that stores `texels` (a level 0) without loss: an 8-bit
+    /// one when every channel is an 8-bit sRGB or linear level (within
+    /// 10⁻⁶), else halves.
+    pub fn of(texels: &[Rgb]) -> Self {
+        let srgb_levels: [f32; 256] = std::array::from_fn(|i| srgb_to_linear(i as f32 / 255.0));
+        let channels = || texels.iter().flat_map(|t| t.to_array());
+        let srgb = |v: f32| {
+            let q = (linear_to_srgb(v.clamp(0.0, 1.0)) * 255.0).round() as usize;
+            (srgb_levels[q.min(255)] - v).abs() <= 1e-6
+        };
+        let unorm = |v: f32| ((v.clamp(0.0, 1.0) * 255.0).round() / 255.0 - v).abs() <= 1e-6;
+        if channels().all(srgb) {
+            TexelFormat::Srgb8
+        } else if channels().all(unorm) {
+            TexelFormat::Unorm8
+        } else {
+            TexelFormat::Half
+        }
+    }
+
+    /// Appends `c` in this format.
+    pub fn pack(self, c: Rgb, out: &mut Vec<u32>) {
+        let byte = |v: f32| (v.clamp(0.0, 1.0) * 255.0).round() as u32;
+        match self {
+            TexelFormat::Half => out.extend(pack_texel(c)),
+            TexelFormat::Srgb8 => {
+                let e = c
+                    .to_array()
+                    .map(|v| byte(linear_to_srgb(v.clamp(0.0, 1.0))));
+                out.push(e[0] | e[1] << 8 | e[2] << 16);
+            }
+            TexelFormat::Unorm8 => {
+                let e = c.to_array().map(byte);
+                out.push(e[0] | e[1] << 8 | e[2] << 16);
+            }
+        }
+    }
+}
 
 /// One level of a mip chain.
 #[derive(Clone, Debug, PartialEq)]
@@ -92,8 +153,9 @@ fn wrap_index(w: Wrap) -> u32 {
 pub struct TextureTable {
     /// At least one entry (storage bindings cannot be empty).
     pub textures: Vec<GpuTexture>,
-    /// Every level of every texture (at least one texel).
-    pub texels: Vec<[u32; 2]>,
+    /// Every level of every texture, in each texture's [`TexelFormat`]
+    /// (at least one word).
+    pub texels: Vec<u32>,
     /// Per scene material.
     pub materials: Vec<GpuMaterialTextures>,
     pub warnings: Vec<String>,
@@ -121,6 +183,8 @@ impl TextureTable {
                 emission: slot(m.emission_texture),
                 normal: slot(m.normal_map.map(|n| n.texture)),
                 normal_scale: m.normal_map.map_or(1.0, |n| n.scale),
+                occlusion: slot(m.occlusion_map.map(|o| o.texture)),
+                occlusion_strength: m.occlusion_map.map_or(1.0, |o| o.strength),
                 ..Default::default()
             })
             .collect();
@@ -130,19 +194,29 @@ impl TextureTable {
             .iter()
             .map(|&(t, _)| mip_chain(&scene.textures[t]))
             .collect();
-        let texel_count = |c: &[Vec<MipLevel>]| -> u64 {
+        let formats: Vec<TexelFormat> = chains
+            .iter()
+            .map(|c| TexelFormat::of(&c[0].texels))
+            .collect();
+        let word_count = |c: &[Vec<MipLevel>]| -> u64 {
             c.iter()
-                .flatten()
-                .map(|l| l.width as u64 * l.height as u64)
+                .zip(&formats)
+                .flat_map(|(chain, f)| {
+                    chain
+                        .iter()
+                        .map(move |l| l.width as u64 * l.height as u64 * f.words())
+                })
                 .sum()
         };
         let mut warnings = Vec::new();
-        let budget = (budget_bytes / TEXEL_BYTES).min(u32::MAX as u64);
+        let budget = (budget_bytes / 4).min(u32::MAX as u64);
         let mut reduced = BTreeMap::new();
-        while texel_count(&chains) > budget {
+        while word_count(&chains) > budget {
             let largest = (0..chains.len())
                 .filter(|&i| chains[i].len() > 1)
-                .max_by_key(|&i| chains[i][0].width as u64 * chains[i][0].height as u64);
+                .max_by_key(|&i| {
+                    chains[i][0].width as u64 * chains[i][0].height as u64 * formats[i].words()
+                });
             let Some(i) = largest else { break };
             chains[i].remove(0);
             reduced.insert(i, (chains[i][0].width, chains[i][0].height));
@@ -158,8 +232,8 @@ impl TextureTable {
             ));
         }
         let mut textures = Vec::with_capacity(chains.len().max(1));
-        let mut texels = Vec::with_capacity(texel_count(&chains) as usize);
-        for (&(t, _), chain) in order.iter().zip(&chains) {
+        let mut texels = Vec::with_capacity(word_count(&chains) as usize);
+        for ((&(t, _), chain), &format) in order.iter().zip(&chains).zip(&formats) {
             let tex = &scene.textures[t];
             let m = tex.uv_transform.matrix2;
             let o = tex.uv_transform.translation;
@@ -172,18 +246,20 @@ impl TextureTable {
                 first: texels.len() as u32,
                 wrap_u: wrap_index(tex.wrap[0]),
                 wrap_v: wrap_index(tex.wrap[1]),
-                _pad0: 0,
+                format: format as u32,
                 _pad1: 0,
             });
             for level in chain {
-                texels.extend(level.texels.iter().map(|&c| pack_texel(c)));
+                for &c in &level.texels {
+                    format.pack(c, &mut texels);
+                }
             }
         }
         if textures.is_empty() {
             textures.push(GpuTexture::default());
         }
         if texels.is_empty() {
-            texels.push([0; 2]);
+            texels.push(0);
         }
         Self {
             textures,
@@ -227,6 +303,29 @@ mod tests {
             .map(|l| (l.width, l.height))
             .collect();
         assert_eq!(sizes, [(8, 4), (4, 2), (2, 1), (1, 1)]);
+    }
+
+    #[test]
+    fn eight_bit_sources_are_stored_in_one_word() {
+        let srgb: Vec<Rgb> = (0..64u32)
+            .map(|i| {
+                Rgb::new(i as f32, (3 * i) as f32, (255 - i) as f32)
+                    .map(|v| srgb_to_linear(v / 255.0))
+            })
+            .collect();
+        assert_eq!(TexelFormat::of(&srgb), TexelFormat::Srgb8);
+        let unorm: Vec<Rgb> = (0..64u32)
+            .map(|i| Rgb::new(i as f32, 7.0, 200.0) / 255.0)
+            .collect();
+        assert_eq!(TexelFormat::of(&unorm), TexelFormat::Unorm8);
+        let float = vec![Rgb::new(0.1234, 0.5, 2.0)];
+        assert_eq!(TexelFormat::of(&float), TexelFormat::Half);
+        // sRGB texel (10, 128, 255) packs to its bytes.
+        let mut out = Vec::new();
+        TexelFormat::Srgb8.pack(srgb[10], &mut out);
+        assert_eq!(out, [10 | 30 << 8 | 245 << 16]);
+        TexelFormat::Unorm8.pack(unorm[3], &mut out);
+        assert_eq!(out[1], 3 | 7 << 8 | 200 << 16);
     }
 
     #[test]
@@ -280,10 +379,11 @@ mod tests {
         assert_eq!(small.v_row, [0.0, 3.0, 0.25, 0.0]);
         let big = table.textures[1];
         assert_eq!((big.width, big.levels, big.first), (64, 7, 16 + 4 + 1));
-        // 64² + 32² + ... + 1 = 5461 texels, 4×4 chain 21: a budget of
-        // 1000 texels drops the big texture's levels 64 (1386 left) and 32.
+        // White is an 8-bit level: one word per texel. 64² + 32² + ... + 1 =
+        // 5461 words, the 4×4 chain 21: a budget of 1000 words drops the big
+        // texture's levels 64 (1386 left) and 32.
         assert_eq!(table.texels.len(), 5461 + 21);
-        let reduced = TextureTable::new(&scene, 1000 * TEXEL_BYTES);
+        let reduced = TextureTable::new(&scene, 1000 * 4);
         assert_eq!(reduced.textures[1].width, 16);
         assert_eq!(reduced.texels.len(), 341 + 21);
         assert_eq!(reduced.warnings.len(), 1, "{:?}", reduced.warnings);

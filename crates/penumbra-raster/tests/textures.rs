@@ -1,6 +1,7 @@
 //! Textures in the raster engine.
 //! - The WGSL lookup against the CPU's `Texture::sample` (wrap modes,
-//!   `KHR_texture_transform`, bilinear) at level 0, and against
+//!   `KHR_texture_transform`, bilinear; half-float and 8-bit sRGB storage)
+//!   at level 0, and against
 //!   independently computed levels when minified: level 1 exactly, halfway
 //!   between levels 1 and 2, and the 1×1 level (the mean of every texel).
 //! - Khronos' test sheets (../shared/gltf-samples: wrap modes, texture
@@ -11,6 +12,8 @@
 //! - A quad with base-colour and metallic–roughness textures under a point
 //!   light, both engines: mean HDR-FLIP ≤ 0.02.
 //! - NormalTangentTest's normal maps under an oblique light, both engines.
+//! - occlusionTexture scales the environment term by its closed-form
+//!   factor, and only that term.
 //! - DamagedHelmet's emission texture: the raster image matches the CPU's.
 //! - A minified checkerboard: the raster engine's mip levels give the
 //!   average the CPU's many samples per pixel give, not aliasing.
@@ -20,14 +23,15 @@ mod common;
 use glam::{Affine2, Mat4, Vec2, Vec3};
 use penumbra_image::{Image, ToneMapping, hdr_flip, write_image};
 use penumbra_raster::shaders::{SCENE_WGSL, TEXTURES_WGSL, with_library};
-use penumbra_raster::textures::{TextureTable, mip_chain};
+use penumbra_raster::textures::{TexelFormat, TextureTable, mip_chain};
 use penumbra_raster::{ForwardRenderer, GpuContext, RasterOptions};
 use penumbra_scene::texture::Wrap;
 use penumbra_scene::{
-    Camera, IntegratorKind, LoadOptions, Material, NormalMap, Projection, Scene, SceneLight,
-    Texture, load_scene, primitives,
+    Camera, IntegratorKind, LoadOptions, Material, NormalMap, OcclusionMap, Projection, Scene,
+    SceneLight, Texture, load_scene, primitives,
 };
 use penumbra_shading::bsdf::{Bsdf, MetallicRoughness};
+use penumbra_shading::color::srgb_to_linear;
 use penumbra_shading::light::{DirectionalLight, Light, PointLight};
 use penumbra_shading::stats::TestRng;
 use penumbra_trace::{RenderOptions, render};
@@ -189,7 +193,17 @@ fn wgsl_lookups_match_the_cpu_and_the_mip_levels() {
         16,
         [Wrap::MirroredRepeat, Wrap::ClampToEdge],
     ));
-    for t in 0..3 {
+    // An 8-bit sRGB source, stored in one word per texel.
+    scene.textures.push(Texture {
+        texels: (0..64)
+            .map(|_| {
+                Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32())
+                    .map(|v| srgb_to_linear((v * 255.0).floor() / 255.0))
+            })
+            .collect(),
+        ..random_texture(&mut rng, 8, 8, [Wrap::Repeat, Wrap::MirroredRepeat])
+    });
+    for t in 0..4 {
         let mut m = Material::lambert(format!("m{t}"), Vec3::ONE);
         m.albedo_texture = Some(t);
         scene.add_material(m);
@@ -198,8 +212,12 @@ fn wgsl_lookups_match_the_cpu_and_the_mip_levels() {
     // Level 0 (no footprint): Texture::sample, for every texture.
     let mut cases = Vec::new();
     let mut expected = Vec::new();
-    for _ in 0..3000 {
-        let t = (rng.next_f32() * 3.0) as usize % 3;
+    assert_eq!(
+        table.textures[table.materials[3].albedo as usize].format,
+        TexelFormat::Srgb8 as u32
+    );
+    for _ in 0..4000 {
+        let t = (rng.next_f32() * 4.0) as usize % 4;
         let uv = Vec2::new(rng.next_f32() * 5.0 - 2.5, rng.next_f32() * 5.0 - 2.5);
         cases.push(Lookup {
             uv: uv.to_array(),
@@ -443,6 +461,84 @@ fn normal_maps_match_the_cpu() {
     eprintln!("NormalTangentTest: mean HDR-FLIP {flip:.4}");
     save_on_failure("NormalTangentTest", flip > 0.02, &cpu, &gpu);
     assert!(flip <= 0.02, "mean HDR-FLIP {flip:.4}");
+}
+
+/// glTF occlusionTexture darkens the environment term only: a white
+/// Lambertian quad under a constant environment of radiance 1 (E = π, so
+/// L = 1 where open) and a point light, its occlusion map 0.25 on the left
+/// half and 1 on the right, strength 0.8. Left: 1 + 0.8 · (0.25 − 1) = 0.4
+/// of the environment's light; right: all of it; the point light's part
+/// alike on both sides.
+#[test]
+fn occlusion_maps_scale_the_environment_term_only() {
+    let Some(ctx) = common::gpu("occlusion_maps_scale_the_environment_term_only") else {
+        return;
+    };
+    let quad_scene = |with_map: bool, background: f32, lamp: f32| {
+        let mut scene = Scene::default();
+        scene.textures.push(Texture {
+            name: "ao".into(),
+            width: 4,
+            height: 1,
+            texels: vec![Vec3::splat(0.25), Vec3::splat(0.25), Vec3::ONE, Vec3::ONE],
+            wrap: [Wrap::ClampToEdge; 2],
+            uv_transform: Affine2::IDENTITY,
+        });
+        let mut m = Material::lambert("white", Vec3::ONE);
+        if with_map {
+            m.occlusion_map = Some(OcclusionMap {
+                texture: 0,
+                strength: 0.8,
+            });
+        }
+        let id = scene.add_material(m);
+        let mut quad = primitives::quad(Vec3::new(-1.0, -1.0, 0.0), Vec3::X * 2.0, Vec3::Y * 2.0);
+        quad.material = id;
+        scene.add_mesh(quad, Mat4::IDENTITY);
+        scene.background = Vec3::splat(background);
+        scene.lights.push(SceneLight {
+            name: "lamp".into(),
+            light: Light::Point(PointLight {
+                position: Vec3::new(0.0, 0.0, 2.0),
+                intensity: Vec3::splat(lamp),
+                range: f32::INFINITY,
+            }),
+        });
+        scene
+    };
+    let camera = Camera::look_at(
+        Vec3::Z * 5.0,
+        Vec3::ZERO,
+        Vec3::Y,
+        Projection::Orthographic { height: 2.0 },
+    );
+    let render = |scene: &Scene| raster(&ctx, scene, camera, 64, 64);
+    // Pixels 15 and 48 (centres at u = 0.242 and 0.758, symmetric about
+    // the quad's centre) each read two texels of one value.
+    let sides = |img: &Image| (img.get(15, 32), img.get(48, 32));
+    let (env_left, env_right) = sides(&render(&quad_scene(true, 1.0, 0.0)));
+    let (lamp_left, lamp_right) = sides(&render(&quad_scene(true, 0.0, 4.0)));
+    let (plain_left, _) = sides(&render(&quad_scene(false, 1.0, 0.0)));
+    eprintln!(
+        "occlusion: environment {env_left} | {env_right}, lamp {lamp_left} | {lamp_right}, without the map {plain_left}"
+    );
+    assert!(
+        (env_right - Vec3::ONE).abs().max_element() < 0.01,
+        "{env_right}"
+    );
+    assert!(
+        (env_left - Vec3::splat(0.4)).abs().max_element() < 0.01,
+        "{env_left}"
+    );
+    assert!(
+        (plain_left - Vec3::ONE).abs().max_element() < 0.01,
+        "{plain_left}"
+    );
+    // The lamp lights both sides alike (symmetric about the quad's centre).
+    assert!(
+        lamp_left.x > 0.05
+            && (lamp_left - lamp_right).abs().max_element() < 1e-3 * lamp_left.x.max(1.0)
+    );
 }
 
 /// DamagedHelmet's emission texture (no light: emission alone): the

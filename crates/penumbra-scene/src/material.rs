@@ -32,6 +32,19 @@ pub struct Material {
     pub cull_back_faces: bool,
     /// Tangent-space normal map on UV set 0 (glTF `normalTexture`).
     pub normal_map: Option<NormalMap>,
+    /// Baked ambient occlusion on UV set 0 (glTF `occlusionTexture`): the
+    /// raster engine's environment term only (the tracer finds occlusion
+    /// itself).
+    pub occlusion_map: Option<OcclusionMap>,
+}
+
+/// glTF `occlusionTexture`: ambient occlusion in the texture's R channel,
+/// applied to ambient (environment) light only, as
+/// `1 + strength · (R − 1)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OcclusionMap {
+    pub texture: TextureId,
+    pub strength: f32,
 }
 
 /// A tangent-space normal map (glTF `normalTexture`, linear data): the
@@ -79,6 +92,7 @@ impl Material {
             double_sided: true,
             cull_back_faces: false,
             normal_map: None,
+            occlusion_map: None,
         }
     }
 

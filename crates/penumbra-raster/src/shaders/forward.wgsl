@@ -195,6 +195,9 @@ struct Surface {
     // A back face the camera does not see (glTF doubleSided: false): the
     // entry points discard it.
     culled: bool,
+    // The material's baked occlusion (glTF occlusionTexture) on the
+    // environment term.
+    occlusion: f32,
     // 0: the back of a one-sided surface (emission only, no light).
     lit: u32,
 }
@@ -251,6 +254,7 @@ fn surface_of(in: VsOut, facing: bool, ng_raw: vec3<f32>, duv: vec4<f32>) -> Sur
     var s: Surface;
     s.env = textured.env;
     s.culled = culled_back_face(in.instance, facing);
+    s.occlusion = baked_occlusion(inst.material, in.uv, duv);
     s.p = p;
     s.material = inst.material;
 
@@ -376,7 +380,7 @@ fn fs_forward(in: VsOut, @builtin(front_facing) facing: bool) -> @location(0) ve
     if !baked.realtime {
         return vec4<f32>(radiance, 1.0);
     }
-    radiance += environment_light(s, ambient_occlusion(in));
+    radiance += environment_light(s, ambient_occlusion(in) * s.occlusion);
     var count = TILE_OVERFLOW;
     var base = 0u;
     if culling.enabled != 0u {
@@ -408,7 +412,7 @@ fn fs_base(in: VsOut, @builtin(front_facing) facing: bool) -> @location(0) vec4<
     let baked = baked_light(s, in);
     var radiance = s.emission + baked.radiance;
     if baked.realtime {
-        radiance += environment_light(s, ambient_occlusion(in));
+        radiance += environment_light(s, ambient_occlusion(in) * s.occlusion);
     }
     return vec4<f32>(radiance, 1.0);
 }

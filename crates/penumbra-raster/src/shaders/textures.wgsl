@@ -9,8 +9,9 @@
 @group(0) @binding(25) var<storage, read> vertex_uvs: array<vec2<f32>>;
 @group(0) @binding(26) var<storage, read> vertex_colors: array<vec4<f32>>;
 @group(0) @binding(27) var<storage, read> textures: array<GpuTexture>;
-// Every level of every texture: IEEE halves (r | g << 16, b).
-@group(0) @binding(28) var<storage, read> texels: array<vec2<u32>>;
+// Every level of every texture, in its format (TEXEL_*): 8-bit r, g, b in
+// one word, or IEEE halves (r | g << 16, b) in two.
+@group(0) @binding(28) var<storage, read> texels: array<u32>;
 @group(0) @binding(29) var<storage, read> material_textures: array<GpuMaterialTextures>;
 // Per vertex: tangent of UV set 0 (xyz) and handedness (w = ±1).
 @group(0) @binding(30) var<storage, read> vertex_tangents: array<vec4<f32>>;
@@ -27,7 +28,7 @@ struct GpuTexture {
     first: u32,
     wrap_u: u32,
     wrap_v: u32,
-    _pad0: u32,
+    format: u32,
     _pad1: u32,
 }
 
@@ -37,9 +38,9 @@ struct GpuMaterialTextures {
     emission: u32,
     normal: u32,
     normal_scale: f32,
+    occlusion: u32,
+    occlusion_strength: f32,
     _pad0: u32,
-    _pad1: u32,
-    _pad2: u32,
 }
 
 const NO_TEXTURE: u32 = 0xffffffffu;
@@ -47,6 +48,9 @@ const NO_VERTEX_DATA: u32 = 0xffffffffu;
 const WRAP_REPEAT: u32 = 0u;
 const WRAP_CLAMP: u32 = 1u;
 const WRAP_MIRROR: u32 = 2u;
+const TEXEL_HALF: u32 = 0u;
+const TEXEL_SRGB8: u32 = 1u;
+const TEXEL_UNORM8: u32 = 2u;
 
 // Wrap::index: the texel for index i of an axis of n texels.
 fn wrap_texel(mode: u32, i: i32, n: i32) -> i32 {
@@ -70,13 +74,18 @@ struct TextureLevel {
     height: i32,
 }
 
+// Words per texel of a format.
+fn texel_words(format: u32) -> u32 {
+    return select(1u, 2u, format == TEXEL_HALF);
+}
+
 // Level l of t: max(1, size >> l), after the levels above it.
 fn texture_level(t: GpuTexture, level: u32) -> TextureLevel {
     var first = t.first;
     var w = t.width;
     var h = t.height;
     for (var l = 0u; l < level; l++) {
-        first += w * h;
+        first += w * h * texel_words(t.format);
         w = max(w / 2u, 1u);
         h = max(h / 2u, 1u);
     }
@@ -96,11 +105,27 @@ fn half_to_f32(h: u32) -> f32 {
     return select(v, -v, (h & 0x8000u) != 0u);
 }
 
+// srgb_to_linear of penumbra_shading::color, per channel.
+fn srgb_to_linear3(c: vec3<f32>) -> vec3<f32> {
+    return select(pow((c + 0.055) / 1.055, vec3<f32>(2.4)), c / 12.92, c <= vec3<f32>(0.04045));
+}
+
 fn texel_at(t: GpuTexture, lv: TextureLevel, x: i32, y: i32) -> vec3<f32> {
     let xi = wrap_texel(t.wrap_u, x, lv.width);
     let yi = wrap_texel(t.wrap_v, y, lv.height);
-    let w = texels[lv.first + u32(yi * lv.width + xi)];
-    return vec3<f32>(half_to_f32(w.x), half_to_f32(w.x >> 16u), half_to_f32(w.y));
+    let i = lv.first + u32(yi * lv.width + xi) * texel_words(t.format);
+    let w = texels[i];
+    switch t.format {
+        case TEXEL_SRGB8: {
+            return srgb_to_linear3(unpack4x8unorm(w).xyz);
+        }
+        case TEXEL_UNORM8: {
+            return unpack4x8unorm(w).xyz;
+        }
+        default: {
+            return vec3<f32>(half_to_f32(w), half_to_f32(w >> 16u), half_to_f32(texels[i + 1u]));
+        }
+    }
 }
 
 // Bilinear lookup of one level at transformed coordinates st (texel
@@ -206,6 +231,16 @@ fn normal_mapped(material: u32, uv: vec2<f32>, duv: vec4<f32>, t: vec4<f32>, ns_
     }
     let mapped = perturb_normal(sample_texture(tx.normal, uv, duv), tx.normal_scale, ns_front, t);
     return select(ns_front, mapped, dot(mapped, ng_front) > 0.0);
+}
+
+// glTF occlusionTexture: the factor 1 + strength · (R − 1) on the
+// environment term of material `material` (1 without the texture).
+fn baked_occlusion(material: u32, uv: vec2<f32>, duv: vec4<f32>) -> f32 {
+    let tx = material_textures[material];
+    if tx.occlusion == NO_TEXTURE {
+        return 1.0;
+    }
+    return 1.0 + tx.occlusion_strength * (sample_texture(tx.occlusion, uv, duv).x - 1.0);
 }
 
 struct TexturedMaterial {

@@ -24,8 +24,11 @@
 //! `normalTexture` with its `scale` (tangents: TANGENT, else MikkTSpace;
 //! see [`crate::tangents`]).
 //!
+//! `occlusionTexture` with its strength, on TEXCOORD_0 (used by the raster
+//! engine's environment term).
+//!
 //! Still ignored, with ONE warning per material listing it: alpha modes,
-//! `occlusionTexture`,
+//! `occlusionTexture` on another TEXCOORD set,
 //! `transmissionTexture`, `specularTexture`, `specularColorTexture`, other
 //! TEXCOORD sets and other extensions (`KHR_texture_transform` is applied);
 //! factors outside
@@ -35,7 +38,7 @@ use super::Loader;
 use super::container::decode_data_uri;
 use super::texture::decode_texture;
 use crate::error::{Location, SceneError};
-use crate::material::{Material, MaterialId, NormalMap};
+use crate::material::{Material, MaterialId, NormalMap, OcclusionMap};
 use crate::paths::resolve_uri;
 use crate::texture::Texture;
 use crate::texture::{TextureId, Wrap};
@@ -237,9 +240,6 @@ impl Loader<'_> {
             }
             Checked::Invalid => {}
         }
-        if m.occlusion_texture.is_some() {
-            notes.push("occlusionTexture ignored".into());
-        }
         let emission = Rgb::from(m.emissive_factor.0) * strength;
         if !emission.is_finite() || emission.min_element() < 0.0 {
             return Err(SceneError::at_path(
@@ -318,6 +318,34 @@ impl Loader<'_> {
             }
             None => None,
         };
+        // occlusionTexture (linear data, R): only on TEXCOORD_0 (the
+        // common TEXCOORD_1 light-map layout is not read yet).
+        let occlusion_map = match &m.occlusion_texture {
+            Some(info) if info.tex_coord == 0 => {
+                let info_json = &raw["occlusionTexture"];
+                let transform = texture_transform(info_json, 0, "occlusionTexture", &mut notes);
+                let strength = info.strength.0;
+                if !strength.is_finite() {
+                    return Err(SceneError::at_path(
+                        self.file,
+                        format!("{path}.occlusionTexture.strength"),
+                        "strength is not finite",
+                    ));
+                }
+                Some(OcclusionMap {
+                    texture: self.data_texture(info.index.value(), transform, &mut notes)?,
+                    strength: strength.clamp(0.0, 1.0),
+                })
+            }
+            Some(info) => {
+                notes.push(format!(
+                    "occlusionTexture on TEXCOORD_{} ignored (only TEXCOORD_0 is read)",
+                    info.tex_coord
+                ));
+                None
+            }
+            None => None,
+        };
         if !notes.is_empty() {
             self.scene.warnings.push(format!(
                 "{}: material '{name}' ({path}): {}",
@@ -352,6 +380,7 @@ impl Loader<'_> {
                 double_sided: m.double_sided,
                 cull_back_faces: !m.double_sided,
                 normal_map: None,
+                occlusion_map: None,
             });
             self.materials.insert(i, id);
             return Ok(id);
@@ -360,6 +389,7 @@ impl Loader<'_> {
             name,
             bsdf,
             normal_map,
+            occlusion_map,
             albedo_texture,
             metallic_roughness_texture,
             emission,

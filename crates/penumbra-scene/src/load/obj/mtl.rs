@@ -407,6 +407,7 @@ impl ObjLoader<'_> {
             double_sided: refracting || !emissive,
             cull_back_faces: false,
             normal_map: None,
+            occlusion_map: None,
         }))
     }
 }

@@ -144,6 +144,7 @@ fn material(doc: &Doc<'_>, path: &str, raw: &RawMaterial) -> Result<Material, Sc
         double_sided,
         cull_back_faces: false,
         normal_map: None,
+        occlusion_map: None,
     })
 }
 
