@@ -266,18 +266,12 @@ impl SceneGpu {
                 } else {
                     m
                 };
-                if let Some(uv) = m.uv0.as_ref().filter(|uv| uv.len() == m.positions.len()) {
-                    *first_uv.last_mut().unwrap() = uvs.len() as u32;
-                    uvs.extend(uv.iter().map(|t| t.to_array()));
-                }
-                if let Some(t) = m.tangents.as_ref().filter(|t| t.len() == m.positions.len()) {
-                    *first_tangent.last_mut().unwrap() = tangents.len() as u32;
-                    tangents.extend(t.iter().map(|t| t.to_array()));
-                }
-                if let Some(c) = m.colors.as_ref().filter(|c| c.len() == m.positions.len()) {
-                    *first_color.last_mut().unwrap() = colors.len() as u32;
-                    colors.extend(c.iter().map(|c| c.extend(1.0).to_array()));
-                }
+                let n = m.positions.len();
+                *first_uv.last_mut().unwrap() = append(&m.uv0, n, &mut uvs, |t| t.to_array());
+                *first_tangent.last_mut().unwrap() =
+                    append(&m.tangents, n, &mut tangents, |t| t.to_array());
+                *first_color.last_mut().unwrap() =
+                    append(&m.colors, n, &mut colors, |c| c.extend(1.0).to_array());
                 let vertex = wgpu::BufferUsages::VERTEX;
                 let flat = |v: &[Vec3]| v.iter().map(|p| p.to_array()).collect::<Vec<[f32; 3]>>();
                 Some(GpuMesh {
@@ -307,15 +301,16 @@ impl SceneGpu {
             .filter(|(_, inst)| meshes[inst.mesh].is_some())
             .map(|(i, inst)| (i as u32, inst.mesh))
             .collect();
-        for (i, inst) in scene.instances.iter().enumerate() {
-            instances[i].first_uv = first_uv[inst.mesh];
-            instances[i].first_color = first_color[inst.mesh];
-            instances[i].first_tangent = first_tangent[inst.mesh];
-        }
-        for k in 0..data.emitters.len() {
-            let i = scene.instances.len() + k;
-            instances[i].first_uv = first_uv[scene.meshes.len() + k];
-            instances[i].first_color = first_color[scene.meshes.len() + k];
+        // The scene's instances, then one per emitter (mesh first_mesh + k).
+        let instance_meshes = scene
+            .instances
+            .iter()
+            .map(|inst| inst.mesh)
+            .chain(scene.meshes.len()..scene.meshes.len() + data.emitters.len());
+        for (inst, mesh) in instances.iter_mut().zip(instance_meshes) {
+            inst.first_uv = first_uv[mesh];
+            inst.first_color = first_color[mesh];
+            inst.first_tangent = first_tangent[mesh];
         }
         // Storage bindings cannot be empty.
         if uvs.is_empty() {
@@ -449,33 +444,44 @@ impl SceneGpu {
 
 /// `mesh` as separate triangles: corner k of triangle t is vertex 3t + k.
 fn unweld(mesh: &penumbra_scene::Mesh) -> penumbra_scene::Mesh {
-    let corners = |v: &[Vec3]| -> Vec<Vec3> {
-        mesh.indices
-            .iter()
-            .flat_map(|t| t.map(|i| v[i as usize]))
-            .collect()
-    };
     penumbra_scene::Mesh {
         name: mesh.name.clone(),
-        positions: corners(&mesh.positions),
-        normals: mesh.normals.as_deref().map(corners),
-        uv0: mesh.uv0.as_deref().map(|uv| {
-            mesh.indices
-                .iter()
-                .flat_map(|t| t.map(|i| uv[i as usize]))
-                .collect()
-        }),
+        positions: corners(mesh, &mesh.positions),
+        normals: mesh.normals.as_deref().map(|v| corners(mesh, v)),
+        uv0: mesh.uv0.as_deref().map(|v| corners(mesh, v)),
         uv1: None,
-        tangents: mesh.tangents.as_deref().map(|t| {
-            mesh.indices
-                .iter()
-                .flat_map(|tri| tri.map(|i| t[i as usize]))
-                .collect()
-        }),
-        colors: mesh.colors.as_deref().map(corners),
+        tangents: mesh.tangents.as_deref().map(|v| corners(mesh, v)),
+        colors: mesh.colors.as_deref().map(|v| corners(mesh, v)),
         indices: (0..mesh.indices.len() as u32)
             .map(|t| [3 * t, 3 * t + 1, 3 * t + 2])
             .collect(),
         material: mesh.material,
+    }
+}
+
+/// A per-vertex attribute per triangle corner (corner k of triangle t at
+/// 3t + k).
+fn corners<T: Copy>(mesh: &penumbra_scene::Mesh, v: &[T]) -> Vec<T> {
+    mesh.indices
+        .iter()
+        .flat_map(|t| t.map(|i| v[i as usize]))
+        .collect()
+}
+
+/// Appends a per-vertex attribute of `n` vertices (as `f` packs it) to
+/// `out`; its first index, or [`NO_VERTEX_DATA`] when the mesh has none.
+fn append<T, U>(
+    attribute: &Option<Vec<T>>,
+    n: usize,
+    out: &mut Vec<U>,
+    f: impl Fn(&T) -> U,
+) -> u32 {
+    match attribute.as_ref().filter(|a| a.len() == n) {
+        Some(a) => {
+            let first = out.len() as u32;
+            out.extend(a.iter().map(f));
+            first
+        }
+        None => NO_VERTEX_DATA,
     }
 }
