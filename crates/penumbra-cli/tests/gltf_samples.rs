@@ -156,16 +156,40 @@ fn pngs_are_exposed_for_the_model() {
         ],
         dir,
     );
-    let said = stderr(&o);
-    let ev: f32 = said
-        .split("exposure auto: ")
-        .nth(1)
-        .and_then(|s| s.split(' ').next())
-        .and_then(|s| s.parse().ok())
-        .unwrap_or_else(|| panic!("no exposure in {said}"));
+    let auto_ev = |o: &std::process::Output| -> f32 {
+        let said = stderr(o);
+        said.split("exposure auto: ")
+            .nth(1)
+            .and_then(|s| s.split(' ').next())
+            .and_then(|s| s.parse().ok())
+            .unwrap_or_else(|| panic!("no exposure in {said}"))
+    };
+    let ev = auto_ev(&o);
     // The box (albedo 0.8, 0, 0) under mean radiance 1: a log-average near
     // 0.18·2^−EV. Metering the background too would push EV up by stops.
     assert!((-2.0..1.5).contains(&ev), "{ev}");
+    // The raster engine meters the same pixels (those its surfaces cover),
+    // so it picks nearly the same exposure (it was +2.9 EV when it metered
+    // the whole frame, the bright studio background included).
+    let o = penumbra(
+        &[
+            "render",
+            scene,
+            "--engine",
+            "raster",
+            "--resolution",
+            "48x48",
+            "-o",
+            "raster.png",
+        ],
+        dir,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let raster_ev = auto_ev(&o);
+    assert!(
+        (raster_ev - ev).abs() < 0.5,
+        "raster {raster_ev:+.2} EV, tracer {ev:+.2} EV"
+    );
     let o = penumbra(
         &[
             "render",

@@ -297,8 +297,20 @@ pub struct GpuMaterialTextures {
     /// times `1 + strength · (R − 1)`.
     pub occlusion: u32,
     pub occlusion_strength: f32,
+    /// Coverage (glTF alphaMode): [`ALPHA_OPAQUE`], [`ALPHA_MASK`] or
+    /// [`ALPHA_BLEND`]; α = `alpha_factor` × the R channel of
+    /// `alpha_texture` (the base colour's alpha).
+    pub alpha_mode: u32,
+    pub alpha_texture: u32,
+    pub alpha_factor: f32,
+    /// MASK: fragments with α < cutoff are discarded.
+    pub alpha_cutoff: f32,
     pub _pad0: u32,
 }
+
+pub const ALPHA_OPAQUE: u32 = 0;
+pub const ALPHA_MASK: u32 = 1;
+pub const ALPHA_BLEND: u32 = 2;
 
 impl Default for GpuMaterialTextures {
     fn default() -> Self {
@@ -310,6 +322,10 @@ impl Default for GpuMaterialTextures {
             normal_scale: 1.0,
             occlusion: NO_TEXTURE,
             occlusion_strength: 1.0,
+            alpha_mode: ALPHA_OPAQUE,
+            alpha_texture: NO_TEXTURE,
+            alpha_factor: 1.0,
+            alpha_cutoff: 0.0,
             _pad0: 0,
         }
     }
@@ -707,6 +723,10 @@ pub fn gpu_structs() -> Vec<HostLayout> {
                 normal_scale,
                 occlusion,
                 occlusion_strength,
+                alpha_mode,
+                alpha_texture,
+                alpha_factor,
+                alpha_cutoff,
                 _pad0
             ]
         ),

@@ -38,8 +38,8 @@ use crate::shadow_volume::{ShadowVolumes, VolumeFrame};
 use crate::timing::{GpuTimer, PassTiming};
 use glam::Vec3;
 use penumbra_image::Image;
-use penumbra_scene::Scene;
 use penumbra_scene::camera::Camera;
+use penumbra_scene::{AlphaMode, Scene};
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
 use std::time::Instant;
@@ -139,9 +139,14 @@ pub struct RasterOutput {
     /// `"shadow map L"`, `"background"` (after the lighting passes, with an
     /// environment map), `"depth prepass"`, `"light culling"`, `"forward"`, `"base"`,
     /// `"shadow volume facing L"`, `"shadow volume stencil L"`, `"planar
-    /// shadow L"`, `"light L"`), where the adapter supports timestamp
+    /// shadow L"`, `"light L"`, `"blend"` (with BLEND materials)), where
+    /// the adapter supports timestamp
     /// queries; empty otherwise.
     pub passes: Vec<PassTiming>,
+    /// Per pixel, row 0 = top: whether a surface covers most of it (the
+    /// colour target's alpha: 1 where a surface was drawn, 0 for the
+    /// background, averaged by the MSAA resolve; BLEND surfaces add α).
+    pub surface: Vec<bool>,
     /// What the raster path approximated for this scene (see
     /// [`crate::SceneData`]).
     pub warnings: Vec<String>,
@@ -249,6 +254,8 @@ fn build_pipeline(
 #[derive(Debug)]
 struct ShadingPipelines {
     forward: wgpu::RenderPipeline,
+    /// BLEND materials, source-over (`fs_blend`).
+    blend: wgpu::RenderPipeline,
     light: wgpu::RenderPipeline,
 }
 
@@ -260,7 +267,7 @@ pub struct ForwardRenderer {
     depth_pipeline: wgpu::RenderPipeline,
     /// The prepass of scenes with culled back faces, without AO (the AO
     /// prepass discards them itself).
-    depth_culled_pipeline: Option<wgpu::RenderPipeline>,
+    depth_discarding_pipeline: Option<wgpu::RenderPipeline>,
     base_pipeline: wgpu::RenderPipeline,
     /// Draws the environment map where no geometry is.
     background_pipeline: wgpu::RenderPipeline,
@@ -560,13 +567,13 @@ impl ForwardRenderer {
         } else {
             prepass("depth prepass", "vs_depth", None, &position_only, true)
         };
-        // Scenes with culled back faces (glTF doubleSided: false): a
-        // prepass that discards them (the AO prepass always checks).
-        let depth_culled_pipeline = (!ao_on).then(|| {
+        // Scenes with culled back faces (glTF doubleSided: false) or alpha
+        // masks: a prepass that discards them (the AO prepass always checks).
+        let depth_discarding_pipeline = (!ao_on).then(|| {
             prepass(
-                "depth prepass (culled back faces)",
-                "vs_depth_culled",
-                Some("fs_depth_culled"),
+                "depth prepass (culled back faces, alpha masks)",
+                "vs_depth_discarding",
+                Some("fs_depth_discarding"),
                 &position_only,
                 false,
             )
@@ -665,7 +672,7 @@ impl ForwardRenderer {
             layout,
             params_layout,
             depth_pipeline,
-            depth_culled_pipeline,
+            depth_discarding_pipeline,
             base_pipeline,
             background_pipeline,
             shadow_pipeline,
@@ -744,6 +751,12 @@ impl ForwardRenderer {
                 let build = |s| build_pipeline(device, &self.module, &self.pipeline_layout, s);
                 Arc::new(ShadingPipelines {
                     forward: build(spec("forward", "fs_forward", Default::default(), None)),
+                    blend: build(spec(
+                        "blend",
+                        "fs_blend",
+                        Default::default(),
+                        Some(wgpu::BlendState::ALPHA_BLENDING),
+                    )),
                     light: build(spec(
                         "light",
                         "fs_light",
@@ -1065,7 +1078,7 @@ impl ForwardRenderer {
         let ao_passes = if self.ao.is_some() { 8 } else { 0 };
         let timer = GpuTimer::new(
             ctx,
-            shadow_maps.layers + 7 + ao_passes + stencil_passes * light_count,
+            shadow_maps.layers + 8 + ao_passes + stencil_passes * light_count,
         );
         let draw_background = environment.is_map();
         environment.write_view(ctx, (proj * view).inverse(), draw_background);
@@ -1122,8 +1135,10 @@ impl ForwardRenderer {
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
-            let culls = scene.materials.iter().any(|m| m.cull_back_faces);
-            let prepass = match &self.depth_culled_pipeline {
+            let culls = scene.materials.iter().any(|m| {
+                m.cull_back_faces || matches!(m.alpha.map(|a| a.mode), Some(AlphaMode::Mask { .. }))
+            });
+            let prepass = match &self.depth_discarding_pipeline {
                 Some(p) if culls => p,
                 _ => &self.depth_pipeline,
             };
@@ -1194,6 +1209,21 @@ impl ForwardRenderer {
             pass.set_bind_group(BAKE_GROUP, &lightmaps.bind_group, &[]);
             pass.draw(0..3, 0..1);
         }
+        if !gpu.blended.is_empty() {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("blend"),
+                color_attachments: &[Some(targets.colour(wgpu::LoadOp::Load, true))],
+                depth_stencil_attachment: Some(targets.depth_loaded(has_stencil)),
+                timestamp_writes: timer.render_pass("blend"),
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_pipeline(&shading.blend);
+            pass.set_bind_group(0, &bind_group, &[]);
+            pass.set_bind_group(1, &params.bind_group, &[0]);
+            pass.set_bind_group(BAKE_GROUP, &lightmaps.bind_group, &[]);
+            gpu.draw_blended(&mut pass);
+        }
         let aov_targets = (aovs && !bakes.is_empty()).then(|| {
             let t = BakeAovTargets::new(device, width, height, o.msaa);
             t.record(
@@ -1218,7 +1248,16 @@ impl ForwardRenderer {
         ctx.wait_idle()?;
         let frame_ms = frame_start.elapsed().as_secs_f64() * 1e3;
 
-        let image = image_of(&readback, ctx, (width, height), 4)?;
+        let rgba = readback.read_f32(ctx)?;
+        let surface = rgba.chunks_exact(4).map(|p| p[3] > 0.5).collect();
+        let image = Image::from_pixels(
+            width,
+            height,
+            rgba.chunks_exact(4)
+                .map(|p| Vec3::new(p[0], p[1], p[2]))
+                .collect(),
+        )
+        .map_err(|e| GpuError::Wgpu(e.to_string()))?;
         let mut aovs = match &aov_targets {
             Some(t) => t.read(ctx)?,
             None => Vec::new(),
@@ -1234,6 +1273,7 @@ impl ForwardRenderer {
             total_ms: start.elapsed().as_secs_f64() * 1e3,
             frame_ms,
             passes,
+            surface,
             warnings,
             culling: culling_stats,
             aovs,

@@ -8,8 +8,8 @@ use crate::gpu::{GpuInstance, GpuLight, GpuPassParams, NO_VERTEX_DATA, PASS_PARA
 use crate::scene_data::SceneData;
 use crate::textures::TextureTable;
 use glam::Vec3;
-use penumbra_scene::Scene;
 use penumbra_scene::camera::Camera;
+use penumbra_scene::{AlphaMode, Scene};
 use wgpu::util::DeviceExt;
 
 /// A buffer initialised with `contents`.
@@ -200,6 +200,9 @@ pub(crate) struct SceneGpu {
     /// The first `casters` draws are the scene's instances, which cast
     /// shadows; the emitters after them do not.
     pub casters: usize,
+    /// Instances of BLEND materials (glTF alphaMode), not in `draws`:
+    /// drawn last, blended over the frame, farthest first.
+    pub blended: Vec<(u32, usize)>,
     /// Instances uploaded (at least 1).
     pub instance_count: u32,
 }
@@ -294,13 +297,14 @@ impl SceneGpu {
                 })
             })
             .collect::<Vec<_>>();
-        let mut draws: Vec<(u32, usize)> = scene
+        let (mut draws, blended): (Vec<Draw>, Vec<Draw>) = scene
             .instances
             .iter()
             .enumerate()
             .filter(|(_, inst)| meshes[inst.mesh].is_some())
             .map(|(i, inst)| (i as u32, inst.mesh))
-            .collect();
+            .partition(|&(i, _)| !blends(scene, i as usize));
+        let blended = back_to_front(scene, camera, blended);
         // The scene's instances, then one per emitter (mesh first_mesh + k).
         let instance_meshes = scene
             .instances
@@ -389,6 +393,7 @@ impl SceneGpu {
             ),
             meshes,
             draws,
+            blended,
             casters,
             instance_count: instances.len() as u32,
             data,
@@ -405,6 +410,13 @@ impl SceneGpu {
     ) {
         for &(i, mesh) in &self.draws {
             self.draw_instance(pass, i, mesh, with_normals, instance_base);
+        }
+    }
+
+    /// Draws the BLEND instances, farthest first (see [`Self::draw_all`]).
+    pub fn draw_blended(&self, pass: &mut wgpu::RenderPass<'_>) {
+        for &(i, mesh) in &self.blended {
+            self.draw_instance(pass, i, mesh, true, 0);
         }
     }
 
@@ -483,5 +495,67 @@ fn append<T, U>(
             first
         }
         None => NO_VERTEX_DATA,
+    }
+}
+
+/// One draw: (instance index, mesh index).
+type Draw = (u32, usize);
+
+/// Whether scene instance `i` has a BLEND material.
+fn blends(scene: &Scene, i: usize) -> bool {
+    let m = scene.instance_material(&scene.instances[i]);
+    matches!(m.alpha.map(|a| a.mode), Some(AlphaMode::Blend))
+}
+
+/// `draws` sorted farthest first by the depth along the view direction of
+/// their world bounds' centres (per-object sorting, as real-time engines
+/// sort transparent objects: exact for separate convex objects, an
+/// approximation where objects interpenetrate or a mesh overlaps itself).
+fn back_to_front(scene: &Scene, camera: &Camera, mut draws: Vec<Draw>) -> Vec<Draw> {
+    let eye = camera.position();
+    let forward = -camera.camera_to_world.z_axis.truncate().normalize_or_zero();
+    let depth = |&(i, mesh): &Draw| {
+        let (lo, hi) = scene.meshes[mesh].bounds();
+        let centre = scene.instances[i as usize]
+            .transform
+            .transform_point3(0.5 * (lo + hi));
+        (centre - eye).dot(forward)
+    };
+    draws.sort_by(|a, b| depth(b).total_cmp(&depth(a)));
+    draws
+}
+
+#[cfg(test)]
+mod blend_order_tests {
+    use super::*;
+    use glam::Mat4;
+    use penumbra_scene::{Projection, primitives};
+
+    /// Three quads at depths 1, 3 and 2 in front of a camera looking down
+    /// −z: drawn farthest first, whatever their order in the scene, and
+    /// the other way round when the camera turns to look up +z from behind.
+    #[test]
+    fn blended_draws_go_farthest_first() {
+        let mut scene = Scene::default();
+        for z in [-1.0, -3.0, -2.0] {
+            let quad = primitives::quad(Vec3::new(-1.0, -1.0, z), Vec3::X, Vec3::Y);
+            scene.add_mesh(quad, Mat4::IDENTITY);
+        }
+        let draws: Vec<Draw> = (0..3).map(|i| (i as u32, i)).collect();
+        let look = |eye: Vec3, target: Vec3| {
+            Camera::look_at(eye, target, Vec3::Y, Projection::Perspective { fov_y: 0.8 })
+        };
+        let front = look(Vec3::ZERO, -Vec3::Z);
+        let order: Vec<u32> = back_to_front(&scene, &front, draws.clone())
+            .iter()
+            .map(|d| d.0)
+            .collect();
+        assert_eq!(order, [1, 2, 0]);
+        let behind = look(Vec3::new(0.0, 0.0, -10.0), Vec3::ZERO);
+        let order: Vec<u32> = back_to_front(&scene, &behind, draws)
+            .iter()
+            .map(|d| d.0)
+            .collect();
+        assert_eq!(order, [0, 2, 1]);
     }
 }

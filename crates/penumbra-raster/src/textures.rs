@@ -15,11 +15,12 @@
 //! - anything else as two words of IEEE halves, `r | g << 16` and `b`
 //!   (relative error ≤ 2⁻¹¹, values clamped to ±65504).
 use crate::gpu::{
-    GpuMaterialTextures, GpuTexture, NO_TEXTURE, WRAP_CLAMP, WRAP_MIRROR, WRAP_REPEAT,
+    ALPHA_BLEND, ALPHA_MASK, ALPHA_OPAQUE, GpuMaterialTextures, GpuTexture, NO_TEXTURE, WRAP_CLAMP,
+    WRAP_MIRROR, WRAP_REPEAT,
 };
 use half::f16;
 use penumbra_scene::texture::Wrap;
-use penumbra_scene::{Scene, Texture, TextureId};
+use penumbra_scene::{AlphaMode, Scene, Texture, TextureId};
 use penumbra_shading::Rgb;
 use penumbra_shading::color::{linear_to_srgb, srgb_to_linear};
 use std::collections::BTreeMap;
@@ -185,6 +186,17 @@ impl TextureTable {
                 normal_scale: m.normal_map.map_or(1.0, |n| n.scale),
                 occlusion: slot(m.occlusion_map.map(|o| o.texture)),
                 occlusion_strength: m.occlusion_map.map_or(1.0, |o| o.strength),
+                alpha_mode: match m.alpha.map(|a| a.mode) {
+                    None => ALPHA_OPAQUE,
+                    Some(AlphaMode::Mask { .. }) => ALPHA_MASK,
+                    Some(AlphaMode::Blend) => ALPHA_BLEND,
+                },
+                alpha_texture: slot(m.alpha.and_then(|a| a.texture)),
+                alpha_factor: m.alpha.map_or(1.0, |a| a.factor),
+                alpha_cutoff: match m.alpha.map(|a| a.mode) {
+                    Some(AlphaMode::Mask { cutoff }) => cutoff,
+                    _ => 0.0,
+                },
                 ..Default::default()
             })
             .collect();

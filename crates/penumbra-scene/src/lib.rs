@@ -27,7 +27,7 @@ pub use environment::{EnvironmentChoice, LightCount, apply_environment};
 pub use error::{Location, SceneError};
 pub use fingerprint::{Fnv1a, fingerprint};
 pub use load::{LoadOptions, load_scene};
-pub use material::{Material, MaterialId, NormalMap, OcclusionMap};
+pub use material::{AlphaCoverage, AlphaMode, Material, MaterialId, NormalMap, OcclusionMap};
 pub use mesh::{Instance, Mesh, MeshId};
 pub use plane::Plane;
 pub use scene::{NamedCamera, Scene, SceneAreaLight, SceneLight};

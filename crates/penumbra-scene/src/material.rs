@@ -36,6 +36,51 @@ pub struct Material {
     /// raster engine's environment term only (the tracer finds occlusion
     /// itself).
     pub occlusion_map: Option<OcclusionMap>,
+    /// Coverage of the surface (glTF `alphaMode` MASK or BLEND); `None`:
+    /// opaque.
+    pub alpha: Option<AlphaCoverage>,
+}
+
+/// How a surface's coverage α acts (glTF `alphaMode`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum AlphaMode {
+    /// Present where α ≥ `cutoff`, absent elsewhere (glTF MASK).
+    Mask { cutoff: f32 },
+    /// Present with probability α: a ray meets the surface, or passes
+    /// through it, at random (stochastic transparency, Enderton et al.
+    /// 2010), so that on average the surface contributes α of its
+    /// radiance and what lies behind it 1 − α (glTF BLEND's
+    /// `α · C_surface + (1 − α) · C_behind`).
+    Blend,
+}
+
+/// A surface's coverage α = `factor` × the texture's R channel (glTF:
+/// `baseColorFactor.a` × `baseColorTexture.a`, on the base colour's UV
+/// set and transform; the vertex colour's alpha is not read).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AlphaCoverage {
+    pub mode: AlphaMode,
+    pub factor: f32,
+    pub texture: Option<TextureId>,
+}
+
+impl AlphaCoverage {
+    /// α at texture coordinates `uv`.
+    pub fn alpha_at(&self, textures: &[crate::Texture], uv: glam::Vec2) -> f32 {
+        match self.texture {
+            Some(t) => self.factor * textures[t].sample(uv).x,
+            None => self.factor,
+        }
+    }
+
+    /// Whether the surface is present where its coverage is `alpha`, for a
+    /// uniform random number `u` in [0, 1) (used by BLEND only).
+    pub fn covers(&self, alpha: f32, u: f32) -> bool {
+        match self.mode {
+            AlphaMode::Mask { cutoff } => alpha >= cutoff,
+            AlphaMode::Blend => u < alpha,
+        }
+    }
 }
 
 /// glTF `occlusionTexture`: ambient occlusion in the texture's R channel,
@@ -93,6 +138,7 @@ impl Material {
             cull_back_faces: false,
             normal_map: None,
             occlusion_map: None,
+            alpha: None,
         }
     }
 

@@ -8,8 +8,9 @@ use crate::ray::Ray;
 /// Culled back faces a camera ray passes through before it gives up.
 pub const MAX_CULLED_LAYERS: usize = 64;
 use glam::{Mat3, Vec2, Vec3, Vec4};
-use penumbra_scene::{MaterialId, Scene};
+use penumbra_scene::{AlphaCoverage, MaterialId, Scene, Texture};
 use penumbra_shading::light::AreaLight;
+use penumbra_shading::sampling::{hash_combine, hash_u32};
 
 /// Where a triangle came from.
 #[derive(Clone, Copy, Debug)]
@@ -26,6 +27,17 @@ struct InstanceData {
     material: MaterialId,
     /// +1, or −1 when the transform mirrors (front = CW in world space).
     winding: f32,
+    /// The material's coverage test (glTF alphaMode MASK or BLEND).
+    alpha: Option<AlphaTest>,
+}
+
+/// What the any-hit filter needs of an alpha-tested instance: its coverage
+/// (texture ids into [`SceneGeometry::alpha_textures`]) and where its
+/// triangles' corner UVs start in [`SceneGeometry::alpha_uvs`].
+#[derive(Clone, Copy, Debug)]
+struct AlphaTest {
+    coverage: AlphaCoverage,
+    first_uv: usize,
 }
 
 /// Geometric and shading data at a ray hit.
@@ -67,6 +79,11 @@ pub struct SceneGeometry {
     instances: Vec<InstanceData>,
     /// The scene's analytic area lights, in `Scene::area_lights` order.
     pub area_lights: Vec<AreaLight>,
+    /// Corner UVs (set 0; barycentric corners without UVs) of the triangles
+    /// of alpha-tested instances, in mesh order per instance.
+    alpha_uvs: Vec<[Vec2; 3]>,
+    /// The coverage textures of alpha-tested instances.
+    alpha_textures: Vec<Texture>,
 }
 
 impl SceneGeometry {
@@ -74,6 +91,9 @@ impl SceneGeometry {
         let mut triangles = Vec::with_capacity(scene.triangle_count());
         let mut sources = Vec::with_capacity(scene.triangle_count());
         let mut instances = Vec::with_capacity(scene.instances.len());
+        let mut alpha_uvs = Vec::new();
+        let mut alpha_textures = Vec::new();
+        let mut alpha_texture_ids = std::collections::HashMap::new();
         for (ii, inst) in scene.instances.iter().enumerate() {
             let mesh = &scene.meshes[inst.mesh];
             let world: Vec<Vec3> = mesh
@@ -92,10 +112,26 @@ impl SceneGeometry {
                     local: ti as u32,
                 });
             }
+            let material = inst.material.unwrap_or(mesh.material);
+            let alpha = scene.materials[material].alpha.map(|mut coverage| {
+                coverage.texture = coverage.texture.map(|t| {
+                    *alpha_texture_ids.entry(t).or_insert_with(|| {
+                        alpha_textures.push(scene.textures[t].clone());
+                        alpha_textures.len() - 1
+                    })
+                });
+                let first_uv = alpha_uvs.len();
+                alpha_uvs.extend(mesh.indices.iter().map(|tri| match &mesh.uv0 {
+                    Some(uv) => tri.map(|i| uv[i as usize]),
+                    None => [Vec2::ZERO, Vec2::X, Vec2::Y],
+                }));
+                AlphaTest { coverage, first_uv }
+            });
             instances.push(InstanceData {
                 normal_matrix: inst.normal_matrix(),
-                material: inst.material.unwrap_or(mesh.material),
+                material,
                 winding: if inst.flips_winding() { -1.0 } else { 1.0 },
+                alpha,
             });
         }
         let start = std::time::Instant::now();
@@ -108,6 +144,40 @@ impl SceneGeometry {
             sources,
             instances,
             area_lights: scene.area_lights.iter().map(|l| l.light).collect(),
+            alpha_uvs,
+            alpha_textures,
+        }
+    }
+
+    /// Whether some triangles have a coverage test (the BVH queries then
+    /// filter their hits).
+    fn alpha_tested(&self) -> bool {
+        !self.alpha_uvs.is_empty()
+    }
+
+    /// The any-hit filter: whether `ray` meets `triangle` at (b1, b2), or
+    /// passes through where its material's coverage says the surface is
+    /// absent. BLEND's random number is a hash of the ray and the triangle,
+    /// so a query is reproducible whatever thread asks it, and the shadow
+    /// and closest-hit queries of one ray agree.
+    fn meets(&self, ray: &Ray, triangle: u32, b1: f32, b2: f32) -> bool {
+        let src = self.sources[triangle as usize];
+        let Some(test) = &self.instances[src.instance as usize].alpha else {
+            return true;
+        };
+        let [u0, u1, u2] = self.alpha_uvs[test.first_uv + src.local as usize];
+        let uv = u0 * (1.0 - b1 - b2) + u1 * b1 + u2 * b2;
+        let alpha = test.coverage.alpha_at(&self.alpha_textures, uv);
+        test.coverage.covers(alpha, ray_uniform(ray, triangle))
+    }
+
+    /// The BVH's closest accepted hit.
+    fn closest_triangle(&self, ray: &Ray) -> Option<Hit> {
+        if self.alpha_tested() {
+            self.accel
+                .intersect_where(ray, |t, b1, b2| self.meets(ray, t, b1, b2))
+        } else {
+            self.accel.intersect(ray)
         }
     }
 
@@ -164,7 +234,7 @@ impl SceneGeometry {
     /// Closest surface along `ray`.
     pub fn intersect(&self, scene: &Scene, ray: &Ray) -> Option<SurfaceHit> {
         crate::stats::count_ray();
-        let hit = self.accel.intersect(ray);
+        let hit = self.closest_triangle(ray);
         let mut tmax = hit.as_ref().map_or(ray.tmax, |h| h.t);
         let mut light_hit = None;
         for (i, l) in self.area_lights.iter().enumerate() {
@@ -219,7 +289,12 @@ impl SceneGeometry {
             l.shape
                 .intersect(ray.origin, ray.direction, ray.tmax)
                 .is_some()
-        }) || self.accel.occluded(ray)
+        }) || if self.alpha_tested() {
+            self.accel
+                .occluded_where(ray, |t, b1, b2| self.meets(ray, t, b1, b2))
+        } else {
+            self.accel.occluded(ray)
+        }
     }
 
     /// The first UV set at barycentrics (b1, b2) of `triangle` (the
@@ -295,4 +370,21 @@ impl SceneGeometry {
             light: None,
         }
     }
+}
+
+/// A uniform number in [0, 1) from the bits of `ray` and a triangle index
+/// (Wellons' lowbias32 hash, chained): stochastic transparency's coin.
+fn ray_uniform(ray: &Ray, triangle: u32) -> f32 {
+    let words = [
+        ray.origin.x,
+        ray.origin.y,
+        ray.origin.z,
+        ray.direction.x,
+        ray.direction.y,
+        ray.direction.z,
+    ];
+    let h = words
+        .iter()
+        .fold(hash_u32(triangle), |h, w| hash_combine(h, w.to_bits()));
+    (h >> 8) as f32 * (1.0 / (1u32 << 24) as f32)
 }

@@ -65,11 +65,11 @@ fn wrap_modes_show_no_red_marks() {
 /// The albedo of a glTF sample seen head-on (orthographic, along −z, the
 /// sheet filling the image), `height` pixels high.
 fn albedo_head_on(model: &str, height: u32) -> penumbra_image::Image {
-    aov_head_on(model, height, "albedo")
+    aov_head_on(model, height, "albedo", 1)
 }
 
 /// An AOV (`albedo`, `normal`) of a glTF sample seen head-on.
-fn aov_head_on(model: &str, height: u32, aov: &str) -> penumbra_image::Image {
+fn aov_head_on(model: &str, height: u32, aov: &str, spp: u32) -> penumbra_image::Image {
     let file = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../../../shared/gltf-samples")
         .join(model);
@@ -85,7 +85,7 @@ fn aov_head_on(model: &str, height: u32, aov: &str) -> penumbra_image::Image {
     let mut settings = scene.settings.clone();
     settings.width = (height as f32 * size.x / size.y).round() as u32;
     settings.height = height;
-    settings.spp = 1;
+    settings.spp = spp;
     settings.integrator = IntegratorKind::Local;
     let out = render(
         &scene,
@@ -112,6 +112,7 @@ fn normal_maps_shade_like_the_geometry_they_replace() {
         "NormalTangentTest/glTF-Binary/NormalTangentTest.glb",
         300,
         "normal",
+        1,
     );
     let (w, h) = (normals.width as usize, normals.height as usize);
     // Bumps: surface pixels (the background has no normal) whose normal
@@ -266,5 +267,49 @@ fn vertex_colours_multiply_the_base_colour() {
     assert!(
         x_marks < 20,
         "{x_marks} pixels of cyan, magenta or yellow X marks"
+    );
+}
+
+/// AlphaBlendModeTest seen head-on: five quads over one texture, whose
+/// alpha is a ramp inside an opaque border, under OPAQUE, BLEND and MASK
+/// with cutoffs 0.25, 0.5 (the default) and 0.75. Each quad has a red "X"
+/// that shows only where its mode is applied wrongly: on the opaque quad
+/// one drawn with α = 0 on a green check (hidden if alpha is ignored, as
+/// OPAQUE asks); on the others marks that α must remove. None may show.
+/// And the ramp is cut where each cutoff says: the height of the green
+/// fill of the three MASK quads falls with the cutoff.
+#[test]
+fn alpha_modes_show_no_red_marks() {
+    let albedo = aov_head_on(
+        "AlphaBlendModeTest/glTF-Binary/AlphaBlendModeTest.glb",
+        240,
+        "albedo",
+        16,
+    );
+    let red = |p: Vec3| p.x > 0.3 && p.y < 0.1 && p.z < 0.1;
+    let (w, h) = (albedo.width, albedo.height);
+    let reds = (0..h)
+        .flat_map(|y| (0..w).map(move |x| (x, y)))
+        .filter(|&(x, y)| red(albedo.get(x, y)))
+        .count();
+    assert_eq!(reds, 0, "{reds} red pixels");
+    // The first row of the coloured (cyan and yellow) fill from the top, at
+    // the middle of the cutoff-0.25, default and 0.75 quads: α rises
+    // linearly down each quad, so the three rows are evenly spaced.
+    let coloured = |p: Vec3| p.max_element() - p.min_element() > 0.3;
+    let tops: Vec<u32> = [0.514, 0.68, 0.855]
+        .iter()
+        .map(|f| {
+            let x = (f * w as f32) as u32;
+            (0..h).find(|&y| coloured(albedo.get(x, y))).unwrap_or(h)
+        })
+        .collect();
+    let (d1, d2) = (
+        tops[1] as f32 - tops[0] as f32,
+        tops[2] as f32 - tops[1] as f32,
+    );
+    assert!(
+        d1 > 0.12 * h as f32 && (d1 - d2).abs() < 0.15 * d1,
+        "fill tops at rows {tops:?}: cutoffs 0.25, 0.5 and 0.75 must cut evenly spaced rows"
     );
 }

@@ -126,9 +126,9 @@ fn mesh_scene(meshes: Vec<(penumbra_scene::Mesh, Mat4)>) -> Scene {
 
 fn report(m: &Measure, json: bool, unit: &str) {
     if json {
-        let key = if m.name == "build" {
+        let key = if m.name == "build" || m.name == "load" {
             "mtris_per_s"
-        } else if m.name == "path" {
+        } else if m.name.starts_with("path") {
             "msamples_per_s"
         } else {
             "mrays_per_s"
@@ -142,7 +142,7 @@ fn report(m: &Measure, json: bool, unit: &str) {
             m.millions_per_second()
         );
     } else {
-        let hits = if m.name == "build" || m.name == "path" {
+        let hits = if matches!(m.name, "build" | "load") || m.name.starts_with("path") {
             String::new()
         } else {
             format!(
@@ -186,6 +186,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
         );
         return Ok(());
     }
+    let start = std::time::Instant::now();
     let scene = match (&args.scene, &args.mesh) {
         (Some(p), _) => load_scene(p)?,
         (None, Some(m)) => {
@@ -200,11 +201,18 @@ pub fn run(args: BenchArgs) -> Result<()> {
         }
         (None, None) => mesh_scene(vec![(bench_mesh(triangles), Mat4::IDENTITY)]),
     };
+    // Parsing, decoding textures and preparing meshes (tangents included).
+    let load = (args.scene.is_some() || args.mesh.is_some()).then(|| Measure {
+        name: "load",
+        seconds: start.elapsed().as_secs_f64(),
+        count: scene.triangle_count() as u64,
+        hits: 0,
+    });
     if scene.triangle_count() == 0 {
         bail!("the scene has no triangles to benchmark");
     }
     let pool = thread_pool(args.threads)?;
-    pool.install(|| run_measures(&args, &scene))
+    pool.install(|| run_measures(&args, &scene, load))
 }
 
 fn run_raster(args: &BenchArgs) -> Result<()> {
@@ -254,7 +262,7 @@ fn run_raster(args: &BenchArgs) -> Result<()> {
     bench_raster::run(&bench, &scene)
 }
 
-fn run_measures(args: &BenchArgs, scene: &Scene) -> Result<()> {
+fn run_measures(args: &BenchArgs, scene: &Scene, load: Option<Measure>) -> Result<()> {
     let geometry = SceneGeometry::build(scene, BuildQuality::Medium);
     let accel = &geometry.accel;
     let build = Measure {
@@ -269,6 +277,9 @@ fn run_measures(args: &BenchArgs, scene: &Scene) -> Result<()> {
             geometry.triangles.len(),
             rayon::current_num_threads()
         );
+    }
+    if let Some(load) = &load {
+        report(load, args.json, "Mtris/s");
     }
     report(&build, args.json, "Mtris/s");
     if let Some(path) = &args.rays {
@@ -312,14 +323,46 @@ fn run_measures(args: &BenchArgs, scene: &Scene) -> Result<()> {
         let mut settings = scene.settings.clone();
         settings.integrator = IntegratorKind::Path;
         settings.spp = args.spp;
-        let out = render(scene, &settings, &RenderOptions::default());
-        let m = Measure {
-            name: "path",
-            seconds: out.render_seconds,
-            count: settings.width as u64 * settings.height as u64 * out.spp as u64,
-            hits: 0,
+        let path = |name, scene: &Scene| {
+            let out = render(scene, &settings, &RenderOptions::default());
+            Measure {
+                name,
+                seconds: out.render_seconds,
+                count: settings.width as u64 * settings.height as u64 * out.spp as u64,
+                hits: 0,
+            }
         };
-        report(&m, args.json, "Msamples/s");
+        let textured = path("path", scene);
+        report(&textured, args.json, "Msamples/s");
+        // The cost of texture lookups: the same render with every
+        // material's textures removed (factors kept), in the same run.
+        if !scene.textures.is_empty() {
+            let plain = path("path-untextured", &without_textures(scene));
+            report(&plain, args.json, "Msamples/s");
+            if !args.json {
+                println!(
+                    "textures cost {:.1} % of path throughput",
+                    100.0 * (1.0 - plain.seconds / textured.seconds)
+                );
+            }
+        }
     }
     Ok(())
+}
+
+/// `scene` with no texture on any material (constant factors, no normal,
+/// occlusion or coverage maps).
+fn without_textures(scene: &Scene) -> Scene {
+    let mut plain = scene.clone();
+    for m in &mut plain.materials {
+        m.albedo_texture = None;
+        m.metallic_roughness_texture = None;
+        m.emission_texture = None;
+        m.normal_map = None;
+        m.occlusion_map = None;
+        if let Some(a) = &mut m.alpha {
+            a.texture = None;
+        }
+    }
+    plain
 }

@@ -173,6 +173,9 @@ fn print_scene(path: &std::path::Path) -> Result<()> {
     println!("instances:  {}", scene.instances.len());
     println!("triangles:  {}", scene.triangle_count());
     println!("materials:  {}", scene.materials.len());
+    for m in &scene.materials {
+        println!("  '{}': {}", m.name, material_summary(m));
+    }
     println!("textures:   {}", scene.textures.len());
     match scene.bounds() {
         Some((lo, hi)) => println!(
@@ -286,6 +289,60 @@ fn print_scene(path: &std::path::Path) -> Result<()> {
         println!("  {w}");
     }
     Ok(())
+}
+
+/// A material's model and what modulates it, in words.
+fn material_summary(m: &penumbra_scene::Material) -> String {
+    use penumbra_scene::AlphaMode;
+    use penumbra_shading::bsdf::Bsdf;
+    let mut parts = vec![
+        match &m.bsdf {
+            Bsdf::Lambert(_) => "Lambert",
+            Bsdf::PhongBlinn(_) => "Phong–Blinn",
+            Bsdf::Mirror(_) => "mirror",
+            Bsdf::Conductor(_) => "smooth conductor",
+            Bsdf::Dielectric(_) => "smooth dielectric",
+            Bsdf::RoughConductor(_) => "rough conductor (GGX)",
+            Bsdf::RoughDielectric(_) => "rough dielectric (GGX)",
+            Bsdf::MetallicRoughness(_) => "glTF metallic–roughness",
+        }
+        .to_string(),
+    ];
+    let textures = [
+        (m.albedo_texture.is_some(), "base colour"),
+        (m.metallic_roughness_texture.is_some(), "metallic–roughness"),
+        (m.emission_texture.is_some(), "emission"),
+        (m.normal_map.is_some(), "normal"),
+        (
+            m.occlusion_map.is_some(),
+            "occlusion (raster environment light only)",
+        ),
+    ];
+    let named: Vec<&str> = textures.iter().filter(|t| t.0).map(|t| t.1).collect();
+    if !named.is_empty() {
+        parts.push(format!("textures: {}", named.join(", ")));
+    }
+    if m.is_emissive() {
+        parts.push(format!("emits {} W/(sr·m²)", triple(m.emission)));
+    }
+    if let Some(a) = m.alpha {
+        let alpha = match a.texture {
+            Some(_) => format!("{} × the base colour texture's alpha", a.factor),
+            None => format!("{}", a.factor),
+        };
+        parts.push(match a.mode {
+            AlphaMode::Mask { cutoff } => {
+                format!("alpha MASK: cut away where α = {alpha} < {cutoff}")
+            }
+            AlphaMode::Blend => format!(
+                "alpha BLEND, α = {alpha} (tracer: stochastic transparency; raster: sorted blending)"
+            ),
+        });
+    }
+    if m.cull_back_faces {
+        parts.push("single-sided: back faces hidden from the camera".into());
+    }
+    parts.join("; ")
 }
 
 /// `(x, y, z)`, rounded to 4 decimals (scientific notation below 10⁻³ and from 10⁵).

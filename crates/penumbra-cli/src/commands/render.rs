@@ -472,7 +472,7 @@ fn render_raster(args: &RenderArgs, scene: &Scene, settings: &RenderSettings) ->
         &args.output,
         &out.image,
         &aovs,
-        &tone_mapping(args, &out.image, None),
+        &tone_mapping(args, &out.image, Some(&out.surface)),
     )
     .with_context(|| format!("writing {}", args.output.display()))?;
     let gpu: String = penumbra_raster::timing::by_kind(&out.passes)

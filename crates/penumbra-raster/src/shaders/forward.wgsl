@@ -118,25 +118,35 @@ fn culled_back_face(instance: u32, facing: bool) -> bool {
     return !front && materials[inst.material].cull_back_faces != 0u;
 }
 
-// Depth prepass of scenes with culled back faces (vs_depth's clip
-// position, and a fragment stage that discards them).
-struct CulledDepthOut {
+// Whether a fragment is discarded: a culled back face, or cut away by its
+// material's alpha mask (glTF MASK: α < alphaCutoff).
+fn discarded(instance: u32, facing: bool, uv: vec2<f32>, duv: vec4<f32>) -> bool {
+    return culled_back_face(instance, facing) || masked_out(instances[instance].material, uv, duv);
+}
+
+// Depth prepass of scenes with culled back faces or alpha masks (vs_depth's
+// clip position, and a fragment stage that discards what `discarded` says).
+struct DiscardingDepthOut {
     @builtin(position) @invariant clip: vec4<f32>,
     @location(0) @interpolate(flat) instance: u32,
+    @location(1) uv: vec2<f32>,
 }
 
 @vertex
-fn vs_depth_culled(
+fn vs_depth_discarding(
     @location(0) position: vec3<f32>,
     @builtin(instance_index) instance: u32,
-) -> CulledDepthOut {
-    let world = world_point(instances[instance].model, position);
-    return CulledDepthOut(camera.view_proj * vec4<f32>(world, 1.0), instance);
+    @builtin(vertex_index) corner: u32,
+) -> DiscardingDepthOut {
+    let inst = instances[instance];
+    let world = world_point(inst.model, position);
+    return DiscardingDepthOut(camera.view_proj * vec4<f32>(world, 1.0), instance, vertex_uv(inst, corner));
 }
 
 @fragment
-fn fs_depth_culled(in: CulledDepthOut, @builtin(front_facing) facing: bool) {
-    if culled_back_face(in.instance, facing) {
+fn fs_depth_discarding(in: DiscardingDepthOut, @builtin(front_facing) facing: bool) {
+    let duv = vec4<f32>(dpdx(in.uv), dpdy(in.uv));
+    if discarded(in.instance, facing, in.uv, duv) {
         discard;
     }
 }
@@ -253,7 +263,7 @@ fn surface_of(in: VsOut, facing: bool, ng_raw: vec3<f32>, duv: vec4<f32>) -> Sur
     let mat = textured.mat;
     var s: Surface;
     s.env = textured.env;
-    s.culled = culled_back_face(in.instance, facing);
+    s.culled = discarded(in.instance, facing, in.uv, duv);
     s.occlusion = baked_occlusion(inst.material, in.uv, duv);
     s.p = p;
     s.material = inst.material;
@@ -340,7 +350,7 @@ fn ambient_occlusion(in: VsOut) -> f32 {
 fn fs_ao_prepass(in: VsOut, @builtin(front_facing) facing: bool) -> @location(0) vec4<f32> {
     // Only the normals of surface_of: no material work in the prepass.
     let n = visible_normals(in, view_direction(in.world), cross(dpdx(in.world), dpdy(in.world)));
-    if culled_back_face(in.instance, facing) {
+    if discarded(in.instance, facing, in.uv, vec4<f32>(dpdx(in.uv), dpdy(in.uv))) {
         discard;
     }
     let z = max(dot(camera.eye.xyz - in.world, camera.back.xyz), 1e-30);
@@ -365,25 +375,23 @@ fn tile_list(frag: vec2<f32>) -> u32 {
     return (t.y * culling.tiles_x + t.x) * (culling.max_per_tile + 1u);
 }
 
-@fragment
-fn fs_forward(in: VsOut, @builtin(front_facing) facing: bool) -> @location(0) vec4<f32> {
-    let s = surface_at(in, facing);
-    if s.culled {
-        discard;
-    }
+// Radiance towards the viewer of surface s: emission, the bakes, the
+// environment light (times kA `ka`) and the lights, those of the pixel's
+// tile when `tiled` and the tile lists are on, else every light.
+fn forward_radiance(s: Surface, in: VsOut, ka: f32, tiled: bool) -> vec3<f32> {
     var radiance = s.emission;
     if s.lit == 0u {
-        return vec4<f32>(radiance, 1.0);
+        return radiance;
     }
     let baked = baked_light(s, in);
     radiance += baked.radiance;
     if !baked.realtime {
-        return vec4<f32>(radiance, 1.0);
+        return radiance;
     }
-    radiance += environment_light(s, ambient_occlusion(in) * s.occlusion);
+    radiance += environment_light(s, ka * s.occlusion);
     var count = TILE_OVERFLOW;
     var base = 0u;
-    if culling.enabled != 0u {
+    if tiled && culling.enabled != 0u {
         base = tile_list(in.clip.xy);
         count = tile_lights[base];
     }
@@ -397,7 +405,30 @@ fn fs_forward(in: VsOut, @builtin(front_facing) facing: bool) -> @location(0) ve
             radiance += light_contribution(s, tile_lights[base + 1u + k]);
         }
     }
-    return vec4<f32>(radiance, 1.0);
+    return radiance;
+}
+
+@fragment
+fn fs_forward(in: VsOut, @builtin(front_facing) facing: bool) -> @location(0) vec4<f32> {
+    let s = surface_at(in, facing);
+    if s.culled {
+        discard;
+    }
+    return vec4<f32>(forward_radiance(s, in, ambient_occlusion(in), true), 1.0);
+}
+
+// BLEND materials (glTF alphaMode), drawn after everything opaque and
+// blended over it with weight α (source-over): every light (the tile lists
+// cover only the opaque depths), and the AO of bakes only (screen-space AO
+// describes the opaque surface behind).
+@fragment
+fn fs_blend(in: VsOut, @builtin(front_facing) facing: bool) -> @location(0) vec4<f32> {
+    let s = surface_at(in, facing);
+    let alpha = coverage(s.material, in.uv, vec4<f32>(dpdx(in.uv), dpdy(in.uv)));
+    if s.culled {
+        discard;
+    }
+    return vec4<f32>(forward_radiance(s, in, baked_ao(in, 1.0), false), alpha);
 }
 
 @fragment

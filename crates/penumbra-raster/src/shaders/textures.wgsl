@@ -40,8 +40,16 @@ struct GpuMaterialTextures {
     normal_scale: f32,
     occlusion: u32,
     occlusion_strength: f32,
+    alpha_mode: u32,
+    alpha_texture: u32,
+    alpha_factor: f32,
+    alpha_cutoff: f32,
     _pad0: u32,
 }
+
+const ALPHA_OPAQUE: u32 = 0u;
+const ALPHA_MASK: u32 = 1u;
+const ALPHA_BLEND: u32 = 2u;
 
 const NO_TEXTURE: u32 = 0xffffffffu;
 const NO_VERTEX_DATA: u32 = 0xffffffffu;
@@ -241,6 +249,25 @@ fn baked_occlusion(material: u32, uv: vec2<f32>, duv: vec4<f32>) -> f32 {
         return 1.0;
     }
     return 1.0 + tx.occlusion_strength * (sample_texture(tx.occlusion, uv, duv).x - 1.0);
+}
+
+// Coverage α of material `material` (glTF: baseColorFactor.a × the base
+// colour texture's alpha; 1 for opaque materials).
+fn coverage(material: u32, uv: vec2<f32>, duv: vec4<f32>) -> f32 {
+    let tx = material_textures[material];
+    if tx.alpha_mode == ALPHA_OPAQUE {
+        return 1.0;
+    }
+    if tx.alpha_texture == NO_TEXTURE {
+        return tx.alpha_factor;
+    }
+    return tx.alpha_factor * sample_texture(tx.alpha_texture, uv, duv).x;
+}
+
+// Whether a MASK material cuts the fragment away (α < alphaCutoff).
+fn masked_out(material: u32, uv: vec2<f32>, duv: vec4<f32>) -> bool {
+    let tx = material_textures[material];
+    return tx.alpha_mode == ALPHA_MASK && coverage(material, uv, duv) < tx.alpha_cutoff;
 }
 
 struct TexturedMaterial {

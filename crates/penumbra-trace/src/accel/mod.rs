@@ -103,6 +103,14 @@ impl Accel {
     /// Closest hit along `ray` in (0, ray.tmax).
     #[inline]
     pub fn intersect(&self, ray: &Ray) -> Option<Hit> {
+        self.intersect_where(ray, |_, _, _| true)
+    }
+
+    /// Closest hit along `ray` in (0, ray.tmax) among the triangle hits
+    /// that `keep(triangle, b1, b2)` accepts (an any-hit filter: alpha
+    /// masks); rejected hits are passed through.
+    #[inline]
+    pub fn intersect_where(&self, ray: &Ray, keep: impl Fn(u32, f32, f32) -> bool) -> Option<Hit> {
         if self.ordered.is_empty() {
             return None;
         }
@@ -110,8 +118,7 @@ impl Accel {
         let r = bvh_ray(ray);
         let mut hit = obvhs::ray::RayHit::none();
         let found = self.bvh.ray_traverse(r, &mut hit, |r, id| {
-            let [a, b, c] = self.ordered[id];
-            wt.intersect_a(a, b, c, r.tmax)
+            self.leaf_hit(&wt, id, r.tmax, &keep)
                 .map_or(f32::INFINITY, |h| h.t)
         });
         if !found {
@@ -131,16 +138,37 @@ impl Accel {
     /// True if anything lies along `ray` in (0, ray.tmax) (shadow rays).
     #[inline]
     pub fn occluded(&self, ray: &Ray) -> bool {
+        self.occluded_where(ray, |_, _, _| true)
+    }
+
+    /// True if a triangle hit that `keep(triangle, b1, b2)` accepts lies
+    /// along `ray` in (0, ray.tmax).
+    #[inline]
+    pub fn occluded_where(&self, ray: &Ray, keep: impl Fn(u32, f32, f32) -> bool) -> bool {
         if self.ordered.is_empty() {
             return false;
         }
         let wt = WatertightRay::new(ray.origin, ray.direction);
         let r = bvh_ray(ray);
         !self.bvh.ray_traverse_miss(r, |r, id| {
-            let [a, b, c] = self.ordered[id];
-            wt.intersect_a(a, b, c, r.tmax)
+            self.leaf_hit(&wt, id, r.tmax, &keep)
                 .map_or(f32::INFINITY, |h| h.t)
         })
+    }
+
+    /// The hit of the triangle in leaf slot `id` before `tmax`, if `keep`
+    /// accepts it.
+    #[inline(always)]
+    fn leaf_hit(
+        &self,
+        wt: &WatertightRay,
+        id: usize,
+        tmax: f32,
+        keep: &impl Fn(u32, f32, f32) -> bool,
+    ) -> Option<TriangleHit> {
+        let [a, b, c] = self.ordered[id];
+        wt.intersect_a(a, b, c, tmax)
+            .filter(|h| keep(self.bvh.primitive_indices[id], h.b1, h.b2))
     }
 
     /// Checks the BVH structure: every triangle is reachable from the root

@@ -144,5 +144,7 @@ fn fs_background(in: BackgroundOut) -> @location(0) vec4<f32> {
         let p = environment.inv_view_proj * vec4<f32>(in.ndc, 0.5, 1.0);
         d = normalize(p.xyz / p.w - camera.eye.xyz);
     }
-    return vec4<f32>(environment_radiance(d, 0.0), 1.0);
+    // Alpha 0: not a surface (the surfaces write 1), as the clear colour;
+    // auto exposure meters the pixels of alpha > ½.
+    return vec4<f32>(environment_radiance(d, 0.0), 0.0);
 }

@@ -27,8 +27,12 @@
 //! `occlusionTexture` with its strength, on TEXCOORD_0 (used by the raster
 //! engine's environment term).
 //!
-//! Still ignored, with ONE warning per material listing it: alpha modes,
-//! `occlusionTexture` on another TEXCOORD set,
+//! `alphaMode` MASK (with `alphaCutoff`, default 0.5) and BLEND: coverage
+//! α = `baseColorFactor.a` × the base colour texture's alpha (linear), as
+//! [`AlphaCoverage`]; a material that is everywhere covered stays opaque.
+//!
+//! Still ignored, with ONE warning per material listing it:
+//! `occlusionTexture` on another TEXCOORD set, COLOR_0's alpha,
 //! `transmissionTexture`, `specularTexture`, `specularColorTexture`, other
 //! TEXCOORD sets and other extensions (`KHR_texture_transform` is applied);
 //! factors outside
@@ -38,7 +42,7 @@ use super::Loader;
 use super::container::decode_data_uri;
 use super::texture::decode_texture;
 use crate::error::{Location, SceneError};
-use crate::material::{Material, MaterialId, NormalMap, OcclusionMap};
+use crate::material::{AlphaCoverage, Material, MaterialId, NormalMap, OcclusionMap};
 use crate::paths::resolve_uri;
 use crate::texture::Texture;
 use crate::texture::{TextureId, Wrap};
@@ -143,9 +147,9 @@ impl Loader<'_> {
         let mut notes: Vec<String> = Vec::new();
 
         let pbr = &m.pbr_metallic_roughness;
-        let [r, g, b, alpha] = pbr.base_color_factor.0;
+        let [r, g, b, alpha_factor] = pbr.base_color_factor.0;
         let base = Rgb::new(r, g, b);
-        if !base.is_finite() || !alpha.is_finite() {
+        if !base.is_finite() || !alpha_factor.is_finite() {
             return Err(SceneError::at_path(
                 self.file,
                 format!("{path}.pbrMetallicRoughness.baseColorFactor"),
@@ -226,20 +230,6 @@ impl Loader<'_> {
                 }
             }
         }
-        match &m.alpha_mode {
-            Checked::Valid(AlphaMode::Opaque) => {}
-            Checked::Valid(mode) => {
-                if alpha < 1.0 || pbr.base_color_texture.is_some() {
-                    let mode = if *mode == AlphaMode::Mask {
-                        "MASK"
-                    } else {
-                        "BLEND"
-                    };
-                    notes.push(format!("alphaMode {mode} ignored (rendered opaque)"));
-                }
-            }
-            Checked::Invalid => {}
-        }
         let emission = Rgb::from(m.emissive_factor.0) * strength;
         if !emission.is_finite() || emission.min_element() < 0.0 {
             return Err(SceneError::at_path(
@@ -277,6 +267,54 @@ impl Loader<'_> {
                 let transform =
                     texture_transform(info_json, info.tex_coord, "baseColorTexture", &mut notes);
                 Some(self.texture(info.index.value(), transform, &mut notes)?)
+            }
+            None => None,
+        };
+
+        // alphaMode: coverage α = baseColorFactor.a × the base colour
+        // texture's alpha (linear, on its UV set and transform).
+        let alpha_mode = match &m.alpha_mode {
+            Checked::Valid(AlphaMode::Mask) => {
+                let cutoff = m.alpha_cutoff.map_or(0.5, |c| c.0);
+                if !cutoff.is_finite() {
+                    return Err(SceneError::at_path(
+                        self.file,
+                        format!("{path}.alphaCutoff"),
+                        "alphaCutoff is not finite",
+                    ));
+                }
+                Some(crate::material::AlphaMode::Mask { cutoff })
+            }
+            Checked::Valid(AlphaMode::Blend) => Some(crate::material::AlphaMode::Blend),
+            _ => None,
+        };
+        let alpha = match alpha_mode {
+            Some(mode) => {
+                let texture = match &pbr.base_color_texture {
+                    Some(info) => {
+                        let info_json = &raw["pbrMetallicRoughness"]["baseColorTexture"];
+                        let transform = texture_transform(
+                            info_json,
+                            info.tex_coord,
+                            "baseColorTexture",
+                            &mut Vec::new(),
+                        );
+                        self.alpha_texture(info.index.value(), transform, &mut notes)?
+                    }
+                    None => None,
+                };
+                let coverage = AlphaCoverage {
+                    mode,
+                    factor: alpha_factor.clamp(0.0, 1.0),
+                    texture,
+                };
+                // Everywhere present (α ≥ cutoff, or α = 1 for BLEND): opaque.
+                let always = texture.is_none()
+                    && match mode {
+                        crate::material::AlphaMode::Mask { cutoff } => coverage.factor >= cutoff,
+                        crate::material::AlphaMode::Blend => coverage.factor >= 1.0,
+                    };
+                (!always).then_some(coverage)
             }
             None => None,
         };
@@ -381,6 +419,7 @@ impl Loader<'_> {
                 cull_back_faces: !m.double_sided,
                 normal_map: None,
                 occlusion_map: None,
+                alpha,
             });
             self.materials.insert(i, id);
             return Ok(id);
@@ -390,6 +429,7 @@ impl Loader<'_> {
             bsdf,
             normal_map,
             occlusion_map,
+            alpha,
             albedo_texture,
             metallic_roughness_texture,
             emission,
@@ -438,22 +478,51 @@ impl Loader<'_> {
         transform: Affine2,
         notes: &mut Vec<String>,
     ) -> Result<TextureId, SceneError> {
+        let id = self.linear_texture(t, transform, notes, |p| Rgb::new(p[0], p[1], p[2]), false)?;
+        Ok(id.expect("every image has colour channels"))
+    }
+
+    /// The alpha channel of glTF `textures[t]` (linear, in every channel of
+    /// a scene texture), or `None` when its image has no alpha channel.
+    fn alpha_texture(
+        &mut self,
+        t: usize,
+        transform: Affine2,
+        notes: &mut Vec<String>,
+    ) -> Result<Option<TextureId>, SceneError> {
+        self.linear_texture(t, transform, notes, |p| Rgb::splat(p[3]), true)
+    }
+
+    /// A scene texture of `pick(texel)` over glTF `textures[t]`'s image,
+    /// its channels read as linear values in [0, 1]; `None` when
+    /// `needs_alpha` and the image has no alpha channel.
+    fn linear_texture(
+        &mut self,
+        t: usize,
+        transform: Affine2,
+        notes: &mut Vec<String>,
+        pick: impl Fn(&image::Rgba<f32>) -> Rgb,
+        needs_alpha: bool,
+    ) -> Result<Option<TextureId>, SceneError> {
         let wrap = self.sampler_wrap(t, notes)?;
         let (bytes, name, ipath) = self.image_bytes(t)?;
         let img = image::load_from_memory(&bytes).map_err(|e| {
             SceneError::at_path(self.file, ipath, format!("cannot decode image: {e}"))
         })?;
-        let rgb = img.to_rgb32f();
+        if needs_alpha && !img.color().has_alpha() {
+            return Ok(None);
+        }
+        let rgba = img.to_rgba32f();
         let texture = Texture {
             name,
-            width: rgb.width(),
-            height: rgb.height(),
-            texels: rgb.pixels().map(|p| Rgb::new(p[0], p[1], p[2])).collect(),
+            width: rgba.width(),
+            height: rgba.height(),
+            texels: rgba.pixels().map(pick).collect(),
             wrap,
             uv_transform: transform,
         };
         self.scene.textures.push(texture);
-        Ok(self.scene.textures.len() - 1)
+        Ok(Some(self.scene.textures.len() - 1))
     }
 
     /// The wrap modes of `textures[t]`'s sampler (REPEAT without one); an

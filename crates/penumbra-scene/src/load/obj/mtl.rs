@@ -408,6 +408,7 @@ impl ObjLoader<'_> {
             cull_back_faces: false,
             normal_map: None,
             occlusion_map: None,
+            alpha: None,
         }))
     }
 }

@@ -145,6 +145,7 @@ fn material(doc: &Doc<'_>, path: &str, raw: &RawMaterial) -> Result<Material, Sc
         cull_back_faces: false,
         normal_map: None,
         occlusion_map: None,
+        alpha: None,
     })
 }
 
