@@ -63,20 +63,36 @@ impl fmt::Write for Fnv1a {
 /// meshes, instances, materials, textures, lights, area lights, camera,
 /// background and the environment map's texels and rotation. Render
 /// settings and load warnings are left out (a partial render records its
-/// settings beside this). The `Debug` text of each part is hashed, which
-/// prints every float exactly (shortest round-trip form) and in a fixed
-/// order, so equal scenes hash equally on every machine.
+/// settings beside this). The bulk arrays (vertex attributes, indices,
+/// texels) are hashed as their bits, each with its length; everything
+/// else as its `Debug` text, which prints every float exactly (shortest
+/// round-trip form) and in a fixed order. Equal scenes hash equally on
+/// every machine.
 pub fn fingerprint(scene: &Scene) -> String {
     use fmt::Write;
     let mut h = Fnv1a::default();
-    // Writing into the hasher cannot fail.
+    for mesh in &scene.meshes {
+        hash_mesh(&mut h, mesh);
+    }
+    for texture in &scene.textures {
+        let crate::Texture {
+            name,
+            width,
+            height,
+            texels,
+            wrap,
+            uv_transform,
+        } = texture;
+        // Writing into the hasher cannot fail.
+        let _ = write!(h, "{name:?}{width}x{height}{wrap:?}{uv_transform:?}");
+        h.u32(texels.len() as u32);
+        h.f32s(texels.iter().flat_map(|t| t.to_array()));
+    }
     let _ = write!(
         h,
-        "{:?}{:?}{:?}{:?}{:?}{:?}{:?}{:?}",
-        scene.meshes,
+        "{:?}{:?}{:?}{:?}{:?}{:?}",
         scene.instances,
         scene.materials,
-        scene.textures,
         scene.lights,
         scene.area_lights,
         scene.camera,
@@ -93,6 +109,51 @@ pub fn fingerprint(scene: &Scene) -> String {
         None => h.u32(0),
     }
     h.finish()
+}
+
+/// Hashes every field of `mesh` (a new field fails to compile here until
+/// it is hashed).
+fn hash_mesh(h: &mut Fnv1a, mesh: &crate::Mesh) {
+    use fmt::Write;
+    let crate::Mesh {
+        name,
+        positions,
+        normals,
+        uv0,
+        uv1,
+        colors,
+        tangents,
+        indices,
+        material,
+    } = mesh;
+    let _ = write!(h, "mesh {name:?} material {material}");
+    attribute(h, Some(positions), glam::Vec3::to_array);
+    attribute(h, normals.as_ref(), glam::Vec3::to_array);
+    attribute(h, uv0.as_ref(), glam::Vec2::to_array);
+    attribute(h, uv1.as_ref(), glam::Vec2::to_array);
+    attribute(h, colors.as_ref(), glam::Vec3::to_array);
+    attribute(h, tangents.as_ref(), glam::Vec4::to_array);
+    h.u32(indices.len() as u32);
+    for t in indices {
+        t.iter().for_each(|&i| h.u32(i));
+    }
+}
+
+/// Hashes an optional vertex attribute: a presence flag, then its length
+/// and the bits of its values.
+fn attribute<T, const N: usize>(
+    h: &mut Fnv1a,
+    values: Option<&Vec<T>>,
+    floats: fn(&T) -> [f32; N],
+) {
+    match values {
+        Some(v) => {
+            h.u32(1);
+            h.u32(v.len() as u32);
+            h.f32s(v.iter().flat_map(floats));
+        }
+        None => h.u32(0),
+    }
 }
 
 #[cfg(test)]
@@ -129,5 +190,24 @@ mod tests {
         let mut background = scene.clone();
         background.background = Vec3::splat(1e-7);
         assert_ne!(a, fingerprint(&background));
+        let mut vertex = scene.clone();
+        vertex.meshes[0].positions[3].y += 1e-6;
+        assert_ne!(a, fingerprint(&vertex));
+        let mut uv = scene.clone();
+        uv.meshes[0].uv1 = uv.meshes[0].uv0.clone();
+        assert_ne!(a, fingerprint(&uv));
+        let mut texel = scene.clone();
+        texel.textures.push(crate::Texture {
+            name: "t".into(),
+            width: 1,
+            height: 1,
+            texels: vec![Vec3::ONE],
+            wrap: Default::default(),
+            uv_transform: glam::Affine2::IDENTITY,
+        });
+        let b = fingerprint(&texel);
+        assert_ne!(a, b);
+        texel.textures[0].texels[0].x = 0.5;
+        assert_ne!(b, fingerprint(&texel));
     }
 }
