@@ -335,7 +335,7 @@ fn run_measures(args: &BenchArgs, scene: &Scene, load: Option<Measure>) -> Resul
         let textured = path("path", scene);
         report(&textured, args.json, "Msamples/s");
         // The cost of texture lookups: the same render with every
-        // material's textures removed (factors kept), in the same run.
+        // material's textures replaced by their means, in the same run.
         if !scene.textures.is_empty() {
             let plain = path("path-untextured", &without_textures(scene));
             report(&plain, args.json, "Msamples/s");
@@ -350,18 +350,37 @@ fn run_measures(args: &BenchArgs, scene: &Scene, load: Option<Measure>) -> Resul
     Ok(())
 }
 
-/// `scene` with no texture on any material (constant factors, no normal,
-/// occlusion or coverage maps).
+/// `scene` with no texture on any material: each texture's mean texel
+/// folded into the factors it multiplies (base colour, roughness and
+/// metallic, emission), so that the materials stay alike on average; no
+/// normal, occlusion or coverage maps.
 fn without_textures(scene: &Scene) -> Scene {
+    use penumbra_shading::bsdf::Bsdf;
+    let mean = |t: usize| {
+        let texels = &scene.textures[t].texels;
+        texels.iter().copied().sum::<Rgb>() / texels.len().max(1) as f32
+    };
     let mut plain = scene.clone();
     for m in &mut plain.materials {
-        m.albedo_texture = None;
-        m.metallic_roughness_texture = None;
-        m.emission_texture = None;
+        if let Some(t) = m.albedo_texture.take() {
+            m.bsdf = m.bsdf.tinted(mean(t));
+        }
+        if let (Some(t), Bsdf::MetallicRoughness(mr)) =
+            (m.metallic_roughness_texture.take(), &mut m.bsdf)
+        {
+            let texel = mean(t);
+            mr.roughness *= texel.y;
+            mr.metallic *= texel.z;
+        }
+        if let Some(t) = m.emission_texture.take() {
+            m.emission *= mean(t);
+        }
         m.normal_map = None;
         m.occlusion_map = None;
-        if let Some(a) = &mut m.alpha {
-            a.texture = None;
+        if let Some(a) = &mut m.alpha
+            && let Some(t) = a.texture.take()
+        {
+            a.factor *= mean(t).x;
         }
     }
     plain
