@@ -310,6 +310,38 @@ struct Frame<'a> {
     timer: &'a GpuTimer,
 }
 
+impl Frame<'_> {
+    /// A shading pass named `name` over the frame's targets: colour loaded
+    /// as `load` (resolved when `resolve`), depth (and the stencil, when
+    /// `stencil`) loaded; `pipeline` set with the frame's three bind groups,
+    /// the pass parameters at `params_offset`.
+    #[allow(clippy::too_many_arguments)]
+    fn shading_pass<'e>(
+        &self,
+        encoder: &'e mut wgpu::CommandEncoder,
+        name: &str,
+        load: wgpu::LoadOp<wgpu::Color>,
+        resolve: bool,
+        stencil: bool,
+        pipeline: &wgpu::RenderPipeline,
+        params_offset: u32,
+    ) -> wgpu::RenderPass<'e> {
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some(name),
+            color_attachments: &[Some(self.targets.colour(load, resolve))],
+            depth_stencil_attachment: Some(self.targets.depth_loaded(stencil)),
+            timestamp_writes: self.timer.render_pass(name),
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, self.bind_group, &[]);
+        pass.set_bind_group(1, &self.params.bind_group, &[params_offset]);
+        pass.set_bind_group(BAKE_GROUP, self.bakes, &[]);
+        pass
+    }
+}
+
 /// The frame's render targets.
 struct Targets {
     resolved: wgpu::Texture,
@@ -785,23 +817,18 @@ impl ForwardRenderer {
         volume_frame: Option<&VolumeFrame>,
         planar_frame: Option<&PlanarFrame>,
     ) {
-        let (gpu, bind_group, params, targets, timer) =
-            (f.gpu, f.bind_group, f.params, f.targets, f.timer);
-        let bakes = f.bakes;
+        let (gpu, params, targets, timer) = (f.gpu, f.params, f.targets, f.timer);
         let light_count = gpu.light_count();
         {
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("base"),
-                color_attachments: &[Some(targets.colour(clear, light_count == 0))],
-                depth_stencil_attachment: Some(targets.depth_loaded(true)),
-                timestamp_writes: timer.render_pass("base"),
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            pass.set_pipeline(&self.base_pipeline);
-            pass.set_bind_group(0, bind_group, &[]);
-            pass.set_bind_group(1, &params.bind_group, &[0]);
-            pass.set_bind_group(BAKE_GROUP, bakes, &[]);
+            let mut pass = f.shading_pass(
+                encoder,
+                "base",
+                clear,
+                light_count == 0,
+                true,
+                &self.base_pipeline,
+                0,
+            );
             gpu.draw_all(&mut pass, true, 0);
         }
         for light in 0..light_count {
@@ -831,18 +858,15 @@ impl ForwardRenderer {
                 );
             }
             let last = light + 1 == light_count;
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("light"),
-                color_attachments: &[Some(targets.colour(wgpu::LoadOp::Load, last))],
-                depth_stencil_attachment: Some(targets.depth_loaded(true)),
-                timestamp_writes: timer.render_pass(&format!("light {light}")),
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            pass.set_pipeline(&shading.light);
-            pass.set_bind_group(0, bind_group, &[]);
-            pass.set_bind_group(1, &params.bind_group, &[offset]);
-            pass.set_bind_group(BAKE_GROUP, bakes, &[]);
+            let mut pass = f.shading_pass(
+                encoder,
+                &format!("light {light}"),
+                wgpu::LoadOp::Load,
+                last,
+                true,
+                &shading.light,
+                offset,
+            );
             pass.set_stencil_reference(0);
             gpu.draw_all(&mut pass, true, 0);
         }
@@ -1159,31 +1183,28 @@ impl ForwardRenderer {
             let params = ao.params(view, proj, ortho, (width, height), radius);
             ao.record(device, &mut encoder, normals, &params, textures, &timer);
         }
+        let frame = Frame {
+            gpu: &gpu,
+            bind_group: &bind_group,
+            bakes: &lightmaps.bind_group,
+            params: &params,
+            targets: &targets,
+            timer: &timer,
+        };
         if !has_stencil {
             self.culling
                 .record(device, &mut encoder, &culling, &targets.depth_view, &timer);
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("forward"),
-                color_attachments: &[Some(targets.colour(clear, true))],
-                depth_stencil_attachment: Some(targets.depth_loaded(false)),
-                timestamp_writes: timer.render_pass("forward"),
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            pass.set_pipeline(&shading.forward);
-            pass.set_bind_group(0, &bind_group, &[]);
-            pass.set_bind_group(1, &params.bind_group, &[0]);
-            pass.set_bind_group(BAKE_GROUP, &lightmaps.bind_group, &[]);
+            let mut pass = frame.shading_pass(
+                &mut encoder,
+                "forward",
+                clear,
+                true,
+                false,
+                &shading.forward,
+                0,
+            );
             gpu.draw_all(&mut pass, true, 0);
         } else {
-            let frame = Frame {
-                gpu: &gpu,
-                bind_group: &bind_group,
-                bakes: &lightmaps.bind_group,
-                params: &params,
-                targets: &targets,
-                timer: &timer,
-            };
             self.record_stencil_lighting(
                 &mut encoder,
                 &frame,
@@ -1194,34 +1215,30 @@ impl ForwardRenderer {
                 planar_frame.as_ref(),
             );
         }
+        let over = wgpu::LoadOp::Load;
         if draw_background {
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("background"),
-                color_attachments: &[Some(targets.colour(wgpu::LoadOp::Load, true))],
-                depth_stencil_attachment: Some(targets.depth_loaded(has_stencil)),
-                timestamp_writes: timer.render_pass("background"),
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            pass.set_pipeline(&self.background_pipeline);
-            pass.set_bind_group(0, &bind_group, &[]);
-            pass.set_bind_group(1, &params.bind_group, &[0]);
-            pass.set_bind_group(BAKE_GROUP, &lightmaps.bind_group, &[]);
+            let background = &self.background_pipeline;
+            let mut pass = frame.shading_pass(
+                &mut encoder,
+                "background",
+                over,
+                true,
+                has_stencil,
+                background,
+                0,
+            );
             pass.draw(0..3, 0..1);
         }
         if !gpu.blended.is_empty() {
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("blend"),
-                color_attachments: &[Some(targets.colour(wgpu::LoadOp::Load, true))],
-                depth_stencil_attachment: Some(targets.depth_loaded(has_stencil)),
-                timestamp_writes: timer.render_pass("blend"),
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            pass.set_pipeline(&shading.blend);
-            pass.set_bind_group(0, &bind_group, &[]);
-            pass.set_bind_group(1, &params.bind_group, &[0]);
-            pass.set_bind_group(BAKE_GROUP, &lightmaps.bind_group, &[]);
+            let mut pass = frame.shading_pass(
+                &mut encoder,
+                "blend",
+                over,
+                true,
+                has_stencil,
+                &shading.blend,
+                0,
+            );
             gpu.draw_blended(&mut pass);
         }
         let aov_targets = (aovs && !bakes.is_empty()).then(|| {
