@@ -206,7 +206,8 @@ pub struct RenderIdentity {
     pub width: u32,
     pub height: u32,
     pub spp: u32,
-    /// The scene's fingerprint and the settings that change pixels.
+    /// The settings that change pixels, and the scene's fingerprint when
+    /// a partial film or checkpoint will record it.
     pub settings: BTreeMap<String, String>,
     /// The sample range this process renders.
     pub samples: Range<u32>,
@@ -216,8 +217,7 @@ pub struct RenderIdentity {
 
 impl RenderIdentity {
     pub fn new(scene: &Scene, settings: &RenderSettings, parts: &PartArgs) -> Self {
-        let settings_map = BTreeMap::from([
-            ("scene".to_string(), fingerprint(scene)),
+        let mut settings_map = BTreeMap::from([
             ("integrator".to_string(), settings.integrator.to_string()),
             ("max_depth".to_string(), settings.max_depth.to_string()),
             ("seed".to_string(), settings.seed.to_string()),
@@ -226,6 +226,11 @@ impl RenderIdentity {
                 format!("{:?}", settings.ao_distance),
             ),
         ]);
+        // The fingerprint reads every vertex and texel: only the files that
+        // record the identity (partial films, checkpoints) need it.
+        if parts.writes_partial() || parts.checkpoint_file().is_some() {
+            settings_map.insert("scene".to_string(), fingerprint(scene));
+        }
         Self {
             width: settings.width,
             height: settings.height,
