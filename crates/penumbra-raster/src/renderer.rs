@@ -272,6 +272,7 @@ pub struct ForwardRenderer {
     /// Draws the environment map where no geometry is.
     background_pipeline: wgpu::RenderPipeline,
     shadow_pipeline: wgpu::RenderPipeline,
+    masked_shadow_pipeline: wgpu::RenderPipeline,
     /// The forward module and layout, for the specialised pipelines.
     module: wgpu::ShaderModule,
     pipeline_layout: wgpu::PipelineLayout,
@@ -510,8 +511,15 @@ impl ForwardRenderer {
         let shadow_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("penumbra shadow"),
             entries: &[
-                storage_entry(1, wgpu::ShaderStages::VERTEX, true),
+                storage_entry(1, vf, true),
                 storage_entry(5, wgpu::ShaderStages::VERTEX, true),
+                // Alpha masks (vs_shadow_masked / fs_shadow_masked): the
+                // materials, texture coordinates and textures.
+                storage_entry(2, fragment, true),
+                storage_entry(25, wgpu::ShaderStages::VERTEX, true),
+                storage_entry(27, fragment, true),
+                storage_entry(28, fragment, true),
+                storage_entry(29, fragment, true),
             ],
         });
         let shadow_pipeline_layout =
@@ -532,34 +540,38 @@ impl ForwardRenderer {
         // cast too); reversed depth, so the bias is negative: it moves the
         // stored depth away from the light by `slope_bias` times the
         // triangle's depth slope, plus a few units of the format's precision.
-        let shadow_pipeline = build_pipeline(
-            device,
-            &module,
-            &shadow_pipeline_layout,
-            PipelineSpec {
-                label: "shadow map",
-                vs: "vs_shadow",
-                fs: None,
-                buffers: &position_only,
-                depth: wgpu::DepthStencilState {
-                    bias: wgpu::DepthBiasState {
-                        constant: -SHADOW_CONSTANT_BIAS,
-                        slope_scale: -options.slope_bias,
-                        clamp: 0.0,
-                    },
-                    ..depth_state(
-                        true,
-                        wgpu::CompareFunction::Greater,
-                        Default::default(),
-                        SHADOW_MAP_FORMAT,
-                    )
+        let shadow_spec = |label, vs, fs| PipelineSpec {
+            label,
+            vs,
+            fs,
+            buffers: &position_only,
+            depth: wgpu::DepthStencilState {
+                bias: wgpu::DepthBiasState {
+                    constant: -SHADOW_CONSTANT_BIAS,
+                    slope_scale: -options.slope_bias,
+                    clamp: 0.0,
                 },
-                blend: None,
-                samples: 1,
-                constants: &[],
-                color: true,
+                ..depth_state(
+                    true,
+                    wgpu::CompareFunction::Greater,
+                    Default::default(),
+                    SHADOW_MAP_FORMAT,
+                )
             },
-        );
+            blend: None,
+            samples: 1,
+            constants: &[],
+            color: false,
+        };
+        let shadow_build = |spec| build_pipeline(device, &module, &shadow_pipeline_layout, spec);
+        let shadow_pipeline = shadow_build(shadow_spec("shadow map", "vs_shadow", None));
+        // Scenes with alpha masks: a fragment stage that discards the
+        // masked-out fragments, so masks cast the shadows they cut out.
+        let masked_shadow_pipeline = shadow_build(shadow_spec(
+            "shadow map (alpha masks)",
+            "vs_shadow_masked",
+            Some("fs_shadow_masked"),
+        ));
         // With screen-space AO the prepass also writes the normal target
         // (the same @invariant clip positions as vs_depth).
         let with_normals = [Some(vec3_buffer(0)), Some(vec3_buffer(1))];
@@ -708,6 +720,7 @@ impl ForwardRenderer {
             base_pipeline,
             background_pipeline,
             shadow_pipeline,
+            masked_shadow_pipeline,
             module,
             pipeline_layout,
             light_stencil,
@@ -1064,10 +1077,22 @@ impl ForwardRenderer {
                 },
             ],
         });
+        let masks = scene
+            .materials
+            .iter()
+            .any(|m| matches!(m.alpha.map(|a| a.mode), Some(AlphaMode::Mask { .. })));
         let shadow_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("penumbra shadow"),
             layout: &self.shadow_layout,
-            entries: &[whole(1, &gpu.instances), whole(5, &shadow_maps.views)],
+            entries: &[
+                whole(1, &gpu.instances),
+                whole(5, &shadow_maps.views),
+                whole(2, &gpu.materials),
+                whole(25, &gpu.vertex_uvs),
+                whole(27, &gpu.textures),
+                whole(28, &gpu.texels),
+                whole(29, &gpu.material_textures),
+            ],
         });
 
         // Stencil shadows: the receivers or volumes, and a parameter slot
@@ -1122,7 +1147,11 @@ impl ForwardRenderer {
             .record_prefilter(&environment, &mut encoder, &timer);
         shadow_maps.record(
             &mut encoder,
-            &self.shadow_pipeline,
+            if masks {
+                &self.masked_shadow_pipeline
+            } else {
+                &self.shadow_pipeline
+            },
             &shadow_bind_group,
             &gpu,
             &timer,
@@ -1159,9 +1188,7 @@ impl ForwardRenderer {
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
-            let culls = scene.materials.iter().any(|m| {
-                m.cull_back_faces || matches!(m.alpha.map(|a| a.mode), Some(AlphaMode::Mask { .. }))
-            });
+            let culls = scene.materials.iter().any(|m| m.cull_back_faces) || masks;
             let prepass = match &self.depth_discarding_pipeline {
                 Some(p) if culls => p,
                 _ => &self.depth_pipeline,

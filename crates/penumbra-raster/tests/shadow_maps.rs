@@ -209,3 +209,81 @@ fn shadows_none_is_unshadowed_and_map_darkens() {
         .count();
     assert!(partial > 0, "PCF 3 left no partially lit pixel");
 }
+
+/// An alpha-masked quad (glTF MASK over a 4 × 4 checkerboard of α = 0 and
+/// α = 1) high above the plane casts the checkerboard's shadow, as the CPU's
+/// shadow rays see it: the shadow-map pass discards masked-out fragments.
+/// The pixels whose shadowed state differs from the CPU's are fewer than a
+/// quarter of those by which the unmasked quad's shadow differs.
+#[test]
+fn alpha_masks_cut_their_shadows() {
+    use penumbra_scene::{AlphaCoverage, AlphaMode, Material, Texture, texture::Wrap};
+    let Some(ctx) = common::gpu("alpha_masks_cut_their_shadows") else {
+        return;
+    };
+    let mut s = scene("directional", false);
+    s.textures.push(Texture {
+        name: "checker".into(),
+        width: 4,
+        height: 4,
+        texels: (0..16)
+            .map(|i| glam::Vec3::splat(((i % 4 + i / 4) % 2) as f32))
+            .collect(),
+        wrap: [Wrap::ClampToEdge; 2],
+        uv_transform: glam::Affine2::IDENTITY,
+    });
+    let masked = s.add_material(Material {
+        alpha: Some(AlphaCoverage {
+            mode: AlphaMode::Mask { cutoff: 0.5 },
+            factor: 1.0,
+            texture: Some(0),
+        }),
+        ..Material::lambert("masked", glam::Vec3::new(0.7, 0.2, 0.1))
+    });
+    // Its shadow falls beside it (the light's offset at height 3 is
+    // (3.75, −2.25)), in view.
+    let mut quad = penumbra_scene::primitives::quad(
+        glam::Vec3::new(-2.5, 3.0, 2.0),
+        glam::Vec3::new(3.0, 0.0, 0.0),
+        glam::Vec3::new(0.0, 0.0, -3.0),
+    );
+    quad.material = masked;
+    s.add_mesh(quad, glam::Mat4::IDENTITY);
+    let shadowed = |scene: &penumbra_scene::Scene| {
+        classify(
+            &cpu(scene, IntegratorKind::Direct),
+            &cpu(scene, IntegratorKind::Local),
+        )
+    };
+    let cpu_shadowed = shadowed(&s);
+    let (plain, _) = raster(&ctx, &s, RasterOptions::default());
+    let (img, _) = raster(&ctx, &s, map_options(2048, 1));
+    save("alpha-mask", &img);
+    let gpu_shadowed = classify(&img, &plain);
+    let mut opaque = s.clone();
+    opaque.materials[masked].alpha = None;
+    let whole = shadowed(&opaque);
+    let n = cpu_shadowed.len() as f64;
+    let count = |v: &[bool]| v.iter().filter(|b| **b).count() as f64 / n;
+    let differ =
+        |a: &[bool], b: &[bool]| a.iter().zip(b).filter(|(x, y)| x != y).count() as f64 / n;
+    let (diff, unmasked_diff) = (
+        differ(&gpu_shadowed, &cpu_shadowed),
+        differ(&whole, &cpu_shadowed),
+    );
+    eprintln!(
+        "alpha mask: shadowed {:.2} % (CPU {:.2} %, unmasked {:.2} %); {:.3} % of pixels differ from the CPU (the unmasked shadow: {:.3} %)",
+        100.0 * count(&gpu_shadowed),
+        100.0 * count(&cpu_shadowed),
+        100.0 * count(&whole),
+        100.0 * diff,
+        100.0 * unmasked_diff
+    );
+    assert!(count(&cpu_shadowed) > 0.01, "no shadow in view");
+    assert!(
+        diff < 0.25 * unmasked_diff,
+        "{:.3} % differ ({:.3} % for the unmasked shadow)",
+        100.0 * diff,
+        100.0 * unmasked_diff
+    );
+}

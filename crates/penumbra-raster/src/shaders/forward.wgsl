@@ -41,6 +41,35 @@ fn vs_shadow(
     return shadow_views[index / n].view_proj * vec4<f32>(world, 1.0);
 }
 
+// Shadow passes of scenes with alpha masks: vs_shadow's position, and the
+// texture coordinates for fs_shadow_masked to discard masked-out fragments.
+struct MaskedShadowOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) @interpolate(flat) instance: u32,
+    @location(1) uv: vec2<f32>,
+}
+
+@vertex
+fn vs_shadow_masked(
+    @location(0) position: vec3<f32>,
+    @builtin(instance_index) index: u32,
+    @builtin(vertex_index) corner: u32,
+) -> MaskedShadowOut {
+    let n = arrayLength(&instances);
+    let inst = instances[index % n];
+    let world = world_point(inst.model, position);
+    let clip = shadow_views[index / n].view_proj * vec4<f32>(world, 1.0);
+    return MaskedShadowOut(clip, index % n, vertex_uv(inst, corner));
+}
+
+@fragment
+fn fs_shadow_masked(in: MaskedShadowOut) {
+    let duv = vec4<f32>(dpdx(in.uv), dpdy(in.uv));
+    if masked_out(instances[in.instance].material, in.uv, duv) {
+        discard;
+    }
+}
+
 // Fraction of light `li` reaching p (1 = lit): the lookup point is moved
 // along the geometric normal ng by normal_offset texels (the texel's world
 // size at p), projected into the light's view (the cube face of the major
