@@ -30,9 +30,10 @@
 //! `alphaMode` MASK (with `alphaCutoff`, default 0.5) and BLEND: coverage
 //! α = `baseColorFactor.a` × the base colour texture's alpha (linear), as
 //! [`AlphaCoverage`]; a material that is everywhere covered stays opaque.
+//! COLOR_0's alpha is not read (the loader drops it).
 //!
 //! Still ignored, with ONE warning per material listing it:
-//! `occlusionTexture` on another TEXCOORD set, COLOR_0's alpha,
+//! `occlusionTexture` on another TEXCOORD set,
 //! `transmissionTexture`, `specularTexture`, `specularColorTexture`, other
 //! TEXCOORD sets and other extensions (`KHR_texture_transform` is applied);
 //! factors outside
@@ -479,7 +480,14 @@ impl Loader<'_> {
         notes: &mut Vec<String>,
     ) -> Result<TextureId, SceneError> {
         let id = self.linear_texture(t, transform, notes, |p| Rgb::new(p[0], p[1], p[2]), false)?;
-        Ok(id.expect("every image has colour channels"))
+        // `linear_texture` gives `None` only when asked for alpha.
+        id.ok_or_else(|| {
+            SceneError::at_path(
+                self.file,
+                format!("textures[{t}]"),
+                "the image has no channels",
+            )
+        })
     }
 
     /// The alpha channel of glTF `textures[t]` (linear, in every channel of
