@@ -38,8 +38,8 @@ use crate::shadow_volume::{ShadowVolumes, VolumeFrame};
 use crate::timing::{GpuTimer, PassTiming};
 use glam::Vec3;
 use penumbra_image::Image;
+use penumbra_scene::Scene;
 use penumbra_scene::camera::Camera;
-use penumbra_scene::{AlphaMode, Scene};
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
 use std::time::Instant;
@@ -1077,10 +1077,7 @@ impl ForwardRenderer {
                 },
             ],
         });
-        let masks = scene
-            .materials
-            .iter()
-            .any(|m| matches!(m.alpha.map(|a| a.mode), Some(AlphaMode::Mask { .. })));
+        let masks = scene.materials.iter().any(|m| m.is_masked());
         let shadow_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("penumbra shadow"),
             layout: &self.shadow_layout,

@@ -8,8 +8,8 @@ use crate::gpu::{GpuInstance, GpuLight, GpuPassParams, NO_VERTEX_DATA, PASS_PARA
 use crate::scene_data::SceneData;
 use crate::textures::TextureTable;
 use glam::Vec3;
+use penumbra_scene::Scene;
 use penumbra_scene::camera::Camera;
-use penumbra_scene::{AlphaMode, Scene};
 use wgpu::util::DeviceExt;
 
 /// A buffer initialised with `contents`.
@@ -503,8 +503,7 @@ type Draw = (u32, usize);
 
 /// Whether scene instance `i` has a BLEND material.
 fn blends(scene: &Scene, i: usize) -> bool {
-    let m = scene.instance_material(&scene.instances[i]);
-    matches!(m.alpha.map(|a| a.mode), Some(AlphaMode::Blend))
+    scene.instance_material(&scene.instances[i]).is_blended()
 }
 
 /// `draws` sorted farthest first by the depth along the view direction of

@@ -171,6 +171,16 @@ impl Material {
         self.emission * (std::f32::consts::PI * area * if self.double_sided { 2.0 } else { 1.0 })
     }
 
+    /// Whether the material has an alpha mask (glTF MASK).
+    pub fn is_masked(&self) -> bool {
+        matches!(self.alpha.map(|a| a.mode), Some(AlphaMode::Mask { .. }))
+    }
+
+    /// Whether the material blends (glTF BLEND).
+    pub fn is_blended(&self) -> bool {
+        matches!(self.alpha.map(|a| a.mode), Some(AlphaMode::Blend))
+    }
+
     pub fn is_emissive(&self) -> bool {
         self.emission.max_element() > 0.0
     }

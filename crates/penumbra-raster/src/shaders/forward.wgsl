@@ -42,28 +42,23 @@ fn vs_shadow(
 }
 
 // Shadow passes of scenes with alpha masks: vs_shadow's position, and the
-// texture coordinates for fs_shadow_masked to discard masked-out fragments.
-struct MaskedShadowOut {
-    @builtin(position) clip: vec4<f32>,
-    @location(0) @interpolate(flat) instance: u32,
-    @location(1) uv: vec2<f32>,
-}
-
+// texture coordinates for fs_shadow_masked to discard masked-out fragments
+// (the same outputs as the discarding depth prepass).
 @vertex
 fn vs_shadow_masked(
     @location(0) position: vec3<f32>,
     @builtin(instance_index) index: u32,
     @builtin(vertex_index) corner: u32,
-) -> MaskedShadowOut {
+) -> DiscardingDepthOut {
     let n = arrayLength(&instances);
     let inst = instances[index % n];
     let world = world_point(inst.model, position);
     let clip = shadow_views[index / n].view_proj * vec4<f32>(world, 1.0);
-    return MaskedShadowOut(clip, index % n, vertex_uv(inst, corner));
+    return DiscardingDepthOut(clip, index % n, vertex_uv(inst, corner));
 }
 
 @fragment
-fn fs_shadow_masked(in: MaskedShadowOut) {
+fn fs_shadow_masked(in: DiscardingDepthOut) {
     let duv = vec4<f32>(dpdx(in.uv), dpdy(in.uv));
     if masked_out(instances[in.instance].material, in.uv, duv) {
         discard;

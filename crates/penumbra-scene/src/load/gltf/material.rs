@@ -262,13 +262,15 @@ impl Loader<'_> {
             }
         }
 
-        let albedo_texture = match &pbr.base_color_texture {
-            Some(info) => {
-                let info_json = &raw["pbrMetallicRoughness"]["baseColorTexture"];
-                let transform =
-                    texture_transform(info_json, info.tex_coord, "baseColorTexture", &mut notes);
-                Some(self.texture(info.index.value(), transform, &mut notes)?)
-            }
+        // The base colour texture and its transform (shared with alpha).
+        let base_texture = pbr.base_color_texture.as_ref().map(|info| {
+            let info_json = &raw["pbrMetallicRoughness"]["baseColorTexture"];
+            let transform =
+                texture_transform(info_json, info.tex_coord, "baseColorTexture", &mut notes);
+            (info.index.value(), transform)
+        });
+        let albedo_texture = match base_texture {
+            Some((t, transform)) => Some(self.texture(t, transform, &mut notes)?),
             None => None,
         };
 
@@ -291,17 +293,8 @@ impl Loader<'_> {
         };
         let alpha = match alpha_mode {
             Some(mode) => {
-                let texture = match &pbr.base_color_texture {
-                    Some(info) => {
-                        let info_json = &raw["pbrMetallicRoughness"]["baseColorTexture"];
-                        let transform = texture_transform(
-                            info_json,
-                            info.tex_coord,
-                            "baseColorTexture",
-                            &mut Vec::new(),
-                        );
-                        self.alpha_texture(info.index.value(), transform, &mut notes)?
-                    }
+                let texture = match base_texture {
+                    Some((t, transform)) => self.alpha_texture(t, transform, &mut notes)?,
                     None => None,
                 };
                 let coverage = AlphaCoverage {
