@@ -203,6 +203,94 @@ fn eval_cases(ctx: &GpuContext, cases: &[Case]) -> Vec<[f32; 4]> {
     )
 }
 
+/// The WGSL twins (and the Rust models) at a few fixed inputs against
+/// values worked out by hand from the formulas, so that one bug made on
+/// both sides still fails (the random comparisons above would pass it).
+/// GGX with α = 0.5: D(θh) = α² / (π cos⁴θh (α² + tan²θh)²), height-
+/// correlated G2 = 1 / (1 + Λo + Λi), Λ = (√(1 + α² tan²θ) − 1) / 2,
+/// f = F D G2 / (4 cos θo cos θi).
+#[test]
+fn wgsl_models_give_hand_computed_values() {
+    let Some(ctx) = common::gpu("wgsl_models_give_hand_computed_values") else {
+        return;
+    };
+    let schlick = |eta: f32| {
+        let mut rc = RoughConductor::new(Vec3::splat(eta), Vec3::ZERO, 0.5);
+        rc.fresnel = FresnelModel::Schlick;
+        Bsdf::RoughConductor(rc)
+    };
+    let (s60, c60) = (3f32.sqrt() / 2.0, 0.5);
+    let fixed = [
+        // Lambert: ρ / π.
+        (
+            "Lambert",
+            Bsdf::Lambert(Lambert::new(Vec3::new(0.5, 0.25, 1.0))),
+            Vec3::Z,
+            Vec3::new(0.6, 0.0, 0.8),
+            Vec3::new(0.5, 0.25, 1.0) * std::f32::consts::FRAC_1_PI,
+        ),
+        // Schlick, n = 1.5: F0 = 0.04. Head-on: h = n, D = 1/(π α²),
+        // G2 = 1: f = 0.04 / π.
+        (
+            "Schlick head-on",
+            schlick(1.5),
+            Vec3::Z,
+            Vec3::Z,
+            Vec3::splat(0.012_732_395),
+        ),
+        // At 60° (a mirror pair, h = n): F = 0.04 + 0.96 · 0.5⁵ = 0.07;
+        // tan²θ = 3, Λ = (√1.75 − 1)/2 = 0.161438, G2 = 0.755929;
+        // f = 0.07 · 1.273240 · 0.755929 / (4 · 0.25) = 0.0673735.
+        (
+            "Schlick at 60°",
+            schlick(1.5),
+            Vec3::new(s60, 0.0, c60),
+            Vec3::new(-s60, 0.0, c60),
+            Vec3::splat(0.067_373_5),
+        ),
+        // wo = n, wi = (0.6, 0, 0.8): h = (1, 0, 3)/√10, tan²θh = 1/9,
+        // D = 0.25 / (π · 0.81 · (0.25 + 1/9)²) = 0.753396; Λi at
+        // tan²θ = 0.5625: 0.0340 (G2 = 0.967118); F = 0.04 + 0.96 ·
+        // (1 − 3/√10)⁵ = 0.0400003; f = F D G2 / (4 · 0.8) = 0.00910786.
+        (
+            "GGX off the normal",
+            schlick(1.5),
+            Vec3::Z,
+            Vec3::new(0.6, 0.0, 0.8),
+            Vec3::splat(0.009_107_863),
+        ),
+        // Exact conductor Fresnel head-on: F = ((n−1)² + κ²) / ((n+1)² +
+        // κ²) per band = 9.64/10.44, 6.5/8.5, 3.77/9.37; f = F / π.
+        (
+            "exact conductor head-on",
+            Bsdf::RoughConductor(RoughConductor::new(
+                Vec3::new(0.2, 0.5, 1.4),
+                Vec3::new(3.0, 2.5, 1.9),
+                0.5,
+            )),
+            Vec3::Z,
+            Vec3::Z,
+            Vec3::new(0.293_918_3, 0.243_413_4, 0.128_071_3),
+        ),
+    ];
+    let cases: Vec<Case> = fixed
+        .iter()
+        .map(|&(_, bsdf, wo, wi, _)| case(bsdf, Side::Front, wo, wi))
+        .collect();
+    let out = eval_cases(&ctx, &cases);
+    for ((name, bsdf, wo, wi, expected), gpu) in fixed.iter().zip(&out) {
+        let gpu = Vec3::new(gpu[0], gpu[1], gpu[2]);
+        let rust = bsdf.eval(*wo, *wi);
+        for (side, got) in [("WGSL", gpu), ("Rust", rust)] {
+            let err = ((got - *expected) / *expected).abs().max_element();
+            assert!(
+                err < 1e-4,
+                "{name}, {side}: {got} vs {expected} (relative {err:.2e})"
+            );
+        }
+    }
+}
+
 #[test]
 fn wgsl_brdfs_match_rust() {
     let Some(ctx) = common::gpu("wgsl_brdfs_match_rust") else {
