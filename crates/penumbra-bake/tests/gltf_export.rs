@@ -346,6 +346,7 @@ fn assorted_scene() -> Scene {
             texels: vec![Rgb::ONE, Rgb::splat(0.2), Rgb::splat(0.2), Rgb::ONE],
             wrap: Default::default(),
             uv_transform: glam::Affine2::IDENTITY,
+            uv_set: 0,
         });
         m.albedo_texture = Some(0);
         s.add_material(m)

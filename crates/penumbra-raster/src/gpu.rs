@@ -241,12 +241,12 @@ pub struct GpuInstance {
     /// a surface (the `ao` integrator gives it kA = 0).
     pub light_shape: u32,
     /// Index of the mesh's first vertex in the texture-coordinate (UV set
-    /// 0), vertex-colour and tangent buffers; [`NO_VERTEX_DATA`]: the mesh
-    /// has none.
+    /// 0), vertex-colour and tangent buffers, and of its UV set 1 in the
+    /// texture-coordinate buffer; [`NO_VERTEX_DATA`]: the mesh has none.
     pub first_uv: u32,
     pub first_color: u32,
     pub first_tangent: u32,
-    pub _pad1: u32,
+    pub first_uv1: u32,
 }
 
 /// [`GpuInstance::first_uv`] / [`GpuInstance::first_color`] of a mesh
@@ -274,7 +274,8 @@ pub struct GpuTexture {
     pub wrap_v: u32,
     /// [`crate::textures::TexelFormat`] of every level.
     pub format: u32,
-    pub _pad1: u32,
+    /// The UV set the texture reads (0 or 1, [`penumbra_scene::Texture::uv_set`]).
+    pub uv_set: u32,
 }
 
 pub const WRAP_REPEAT: u32 = 0;
@@ -343,7 +344,7 @@ impl GpuInstance {
             first_uv: NO_VERTEX_DATA,
             first_color: NO_VERTEX_DATA,
             first_tangent: NO_VERTEX_DATA,
-            _pad1: 0,
+            first_uv1: NO_VERTEX_DATA,
         }
     }
 }
@@ -702,14 +703,14 @@ pub fn gpu_structs() -> Vec<HostLayout> {
                 first_uv,
                 first_color,
                 first_tangent,
-                _pad1
+                first_uv1
             ]
         ),
         host_layout!(
             GpuTexture,
             "GpuTexture",
             [
-                u_row, v_row, width, height, levels, first, wrap_u, wrap_v, format, _pad1
+                u_row, v_row, width, height, levels, first, wrap_u, wrap_v, format, uv_set
             ]
         ),
         host_layout!(

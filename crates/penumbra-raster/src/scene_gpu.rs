@@ -244,11 +244,12 @@ impl SceneGpu {
         if lights.is_empty() {
             lights.push(GpuLight::default());
         }
-        // Per mesh: first vertex in the UV and colour buffers.
+        // Per mesh: first vertex in the UV (sets 0 and 1) and colour buffers.
         let mut uvs: Vec<[f32; 2]> = Vec::new();
         let mut colors: Vec<[f32; 4]> = Vec::new();
         let mut tangents: Vec<[f32; 4]> = Vec::new();
         let mut first_uv = Vec::new();
+        let mut first_uv1 = Vec::new();
         let mut first_color = Vec::new();
         let mut first_tangent = Vec::new();
         let meshes = scene
@@ -257,6 +258,7 @@ impl SceneGpu {
             .chain(&data.emitters)
             .map(|m| {
                 first_uv.push(NO_VERTEX_DATA);
+                first_uv1.push(NO_VERTEX_DATA);
                 first_color.push(NO_VERTEX_DATA);
                 first_tangent.push(NO_VERTEX_DATA);
                 if m.indices.is_empty() || m.positions.is_empty() {
@@ -271,6 +273,7 @@ impl SceneGpu {
                 };
                 let n = m.positions.len();
                 *first_uv.last_mut().unwrap() = append(&m.uv0, n, &mut uvs, |t| t.to_array());
+                *first_uv1.last_mut().unwrap() = append(&m.uv1, n, &mut uvs, |t| t.to_array());
                 *first_tangent.last_mut().unwrap() =
                     append(&m.tangents, n, &mut tangents, |t| t.to_array());
                 *first_color.last_mut().unwrap() =
@@ -313,6 +316,7 @@ impl SceneGpu {
             .chain(scene.meshes.len()..scene.meshes.len() + data.emitters.len());
         for (inst, mesh) in instances.iter_mut().zip(instance_meshes) {
             inst.first_uv = first_uv[mesh];
+            inst.first_uv1 = first_uv1[mesh];
             inst.first_color = first_color[mesh];
             inst.first_tangent = first_tangent[mesh];
         }
@@ -461,7 +465,7 @@ fn unweld(mesh: &penumbra_scene::Mesh) -> penumbra_scene::Mesh {
         positions: corners(mesh, &mesh.positions),
         normals: mesh.normals.as_deref().map(|v| corners(mesh, v)),
         uv0: mesh.uv0.as_deref().map(|v| corners(mesh, v)),
-        uv1: None,
+        uv1: mesh.uv1.as_deref().map(|v| corners(mesh, v)),
         tangents: mesh.tangents.as_deref().map(|v| corners(mesh, v)),
         colors: mesh.colors.as_deref().map(|v| corners(mesh, v)),
         indices: (0..mesh.indices.len() as u32)

@@ -259,7 +259,7 @@ impl TextureTable {
                 wrap_u: wrap_index(tex.wrap[0]),
                 wrap_v: wrap_index(tex.wrap[1]),
                 format: format as u32,
-                _pad1: 0,
+                uv_set: tex.uv_set as u32,
             });
             for level in chain {
                 for &c in &level.texels {
@@ -296,6 +296,7 @@ mod tests {
             texels,
             wrap: [Wrap::Repeat; 2],
             uv_transform: Affine2::IDENTITY,
+            uv_set: 0,
         }
     }
 

@@ -231,6 +231,7 @@ fn alpha_masks_cut_their_shadows() {
             .collect(),
         wrap: [Wrap::ClampToEdge; 2],
         uv_transform: glam::Affine2::IDENTITY,
+        uv_set: 0,
     });
     let masked = s.add_material(Material {
         alpha: Some(AlphaCoverage {

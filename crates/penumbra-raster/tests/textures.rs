@@ -162,6 +162,7 @@ fn random_texture(rng: &mut TestRng, width: u32, height: u32, wrap: [Wrap; 2]) -
             .collect(),
         wrap,
         uv_transform: Affine2::IDENTITY,
+        uv_set: 0,
     }
 }
 
@@ -294,7 +295,12 @@ fn head_on(model: &str, height: u32) -> (Scene, Camera, u32, u32) {
     let file = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../../../shared/gltf-samples")
         .join(model);
-    let mut scene = load_scene(&file, &LoadOptions::default()).unwrap();
+    head_on_file(&file, height)
+}
+
+/// [`head_on`] for any glTF file.
+fn head_on_file(file: &Path, height: u32) -> (Scene, Camera, u32, u32) {
+    let mut scene = load_scene(file, &LoadOptions::default()).unwrap();
     let (lo, hi) = scene.bounds().unwrap();
     let (centre, size) = (0.5 * (lo + hi), hi - lo);
     let camera = Camera::look_at(
@@ -539,7 +545,9 @@ fn occlusion_maps_scale_the_environment_term_only() {
     let Some(ctx) = common::gpu("occlusion_maps_scale_the_environment_term_only") else {
         return;
     };
-    let quad_scene = |with_map: bool, background: f32, lamp: f32| {
+    // uv_set 1: the map on TEXCOORD_1, TEXCOORD_0 mirrored in u (reading
+    // set 0 would swap the sides).
+    let quad_scene_on = |uv_set: usize, with_map: bool, background: f32, lamp: f32| {
         let mut scene = Scene::default();
         scene.textures.push(Texture {
             name: "ao".into(),
@@ -548,6 +556,7 @@ fn occlusion_maps_scale_the_environment_term_only() {
             texels: vec![Vec3::splat(0.25), Vec3::splat(0.25), Vec3::ONE, Vec3::ONE],
             wrap: [Wrap::ClampToEdge; 2],
             uv_transform: Affine2::IDENTITY,
+            uv_set,
         });
         let mut m = Material::lambert("white", Vec3::ONE);
         if with_map {
@@ -559,6 +568,11 @@ fn occlusion_maps_scale_the_environment_term_only() {
         let id = scene.add_material(m);
         let mut quad = primitives::quad(Vec3::new(-1.0, -1.0, 0.0), Vec3::X * 2.0, Vec3::Y * 2.0);
         quad.material = id;
+        if uv_set == 1 {
+            let uv = quad.uv0.take().expect("the quad has UVs");
+            quad.uv0 = Some(uv.iter().map(|t| Vec2::new(1.0 - t.x, t.y)).collect());
+            quad.uv1 = Some(uv);
+        }
         scene.add_mesh(quad, Mat4::IDENTITY);
         scene.background = Vec3::splat(background);
         scene.lights.push(SceneLight {
@@ -571,6 +585,7 @@ fn occlusion_maps_scale_the_environment_term_only() {
         });
         scene
     };
+    let quad_scene = |with_map, background, lamp| quad_scene_on(0, with_map, background, lamp);
     let camera = Camera::look_at(
         Vec3::Z * 5.0,
         Vec3::ZERO,
@@ -584,8 +599,9 @@ fn occlusion_maps_scale_the_environment_term_only() {
     let (env_left, env_right) = sides(&render(&quad_scene(true, 1.0, 0.0)));
     let (lamp_left, lamp_right) = sides(&render(&quad_scene(true, 0.0, 4.0)));
     let (plain_left, _) = sides(&render(&quad_scene(false, 1.0, 0.0)));
+    let (set1_left, set1_right) = sides(&render(&quad_scene_on(1, true, 1.0, 0.0)));
     eprintln!(
-        "occlusion: environment {env_left} | {env_right}, lamp {lamp_left} | {lamp_right}, without the map {plain_left}"
+        "occlusion: environment {env_left} | {env_right}, lamp {lamp_left} | {lamp_right}, without the map {plain_left}, on UV set 1 {set1_left} | {set1_right}"
     );
     assert!(
         (env_right - Vec3::ONE).abs().max_element() < 0.01,
@@ -599,11 +615,54 @@ fn occlusion_maps_scale_the_environment_term_only() {
         (plain_left - Vec3::ONE).abs().max_element() < 0.01,
         "{plain_left}"
     );
+    // On TEXCOORD_1, the same sides.
+    assert!(
+        (set1_left - env_left).abs().max_element() < 0.01
+            && (set1_right - env_right).abs().max_element() < 0.01,
+        "map on UV set 1: {set1_left} | {set1_right}"
+    );
     // The lamp lights both sides alike (symmetric about the quad's centre).
     assert!(
         lamp_left.x > 0.05
             && (lamp_left - lamp_right).abs().max_element() < 1e-3 * lamp_left.x.max(1.0)
     );
+}
+
+/// TEXCOORD_1 (penumbra-scene's corpus file `ok_texcoord1.gltf`, as the
+/// CPU test `textures_read_their_uv_set` reads it): every texture reads UV
+/// set 1, set 0 is mirrored in u, the texture is black and transparent on
+/// the left, white and opaque on the right. Lit head-on (white Lambert:
+/// radiance = albedo), each row is dark on the left and bright on the
+/// right — base colour, emission, alpha mask, and the set overridden by
+/// KHR_texture_transform — and so is the CPU's image.
+#[test]
+fn textures_read_their_uv_set() {
+    let Some(ctx) = common::gpu("textures_read_their_uv_set") else {
+        return;
+    };
+    let file = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../penumbra-scene/tests/corpus/gltf/ok_texcoord1.gltf");
+    // 20 pixels per unit: rows m = 0..4 centred on pixel row 10 + 25 m;
+    // x = ∓0.75 (u = 0.125 and 0.875, one texel each) at columns 5 and 34.
+    let (scene, camera, w, h) = head_on_file(&file, 95);
+    assert_eq!((w, h), (40, 95));
+    let gpu = raster(&ctx, &scene, camera, w, h);
+    let cpu = cpu_local(&scene, camera, w, h, 4);
+    for (row, what) in ["base colour", "emission", "alpha mask", "texCoord override"]
+        .iter()
+        .enumerate()
+    {
+        let y = 10 + 25 * row as u32;
+        for (engine, image) in [("raster", &gpu), ("CPU", &cpu)] {
+            let (left, right) = (image.get(5, y), image.get(34, y));
+            eprintln!("{what}, {engine}: left {left}, right {right}");
+            assert!(left.max_element() < 0.02, "{what}, {engine}: left {left}");
+            assert!(
+                (right - Vec3::ONE).abs().max_element() < 0.02,
+                "{what}, {engine}: right {right}"
+            );
+        }
+    }
 }
 
 /// DamagedHelmet's emission texture (no light: emission alone): the
@@ -719,6 +778,7 @@ fn minified_textures_are_filtered_like_the_cpu_average() {
             .collect(),
         wrap: [Wrap::Repeat; 2],
         uv_transform: Affine2::IDENTITY,
+        uv_set: 0,
     });
     let mut m = Material::lambert("checks", Vec3::ONE);
     m.albedo_texture = Some(0);

@@ -82,9 +82,13 @@ pub fn fingerprint(scene: &Scene) -> String {
             texels,
             wrap,
             uv_transform,
+            uv_set,
         } = texture;
         // Writing into the hasher cannot fail.
-        let _ = write!(h, "{name:?}{width}x{height}{wrap:?}{uv_transform:?}");
+        let _ = write!(
+            h,
+            "{name:?}{width}x{height}{wrap:?}{uv_transform:?}{uv_set}"
+        );
         h.u32(texels.len() as u32);
         h.f32s(texels.iter().flat_map(|t| t.to_array()));
     }
@@ -204,9 +208,13 @@ mod tests {
             texels: vec![Vec3::ONE],
             wrap: Default::default(),
             uv_transform: glam::Affine2::IDENTITY,
+            uv_set: 0,
         });
         let b = fingerprint(&texel);
         assert_ne!(a, b);
+        let mut other_set = texel.clone();
+        other_set.textures[0].uv_set = 1;
+        assert_ne!(b, fingerprint(&other_set));
         texel.textures[0].texels[0].x = 0.5;
         assert_ne!(b, fingerprint(&texel));
     }

@@ -65,7 +65,8 @@ pub struct AlphaCoverage {
 }
 
 impl AlphaCoverage {
-    /// α at texture coordinates `uv`.
+    /// α at texture coordinates `uv` (in the UV set of the alpha texture,
+    /// [`crate::Texture::uv_set`]).
     pub fn alpha_at(&self, textures: &[crate::Texture], uv: glam::Vec2) -> f32 {
         match self.texture {
             Some(t) => self.factor * textures[t].sample(uv).x,
@@ -125,6 +126,20 @@ impl NormalMap {
 }
 
 impl Material {
+    /// Every texture the material reads (a texture may appear twice).
+    pub fn textures(&self) -> impl Iterator<Item = TextureId> {
+        [
+            self.albedo_texture,
+            self.metallic_roughness_texture,
+            self.emission_texture,
+            self.normal_map.map(|m| m.texture),
+            self.occlusion_map.map(|m| m.texture),
+            self.alpha.and_then(|a| a.texture),
+        ]
+        .into_iter()
+        .flatten()
+    }
+
     /// A two-sided Lambertian material with albedo ρ.
     pub fn lambert(name: impl Into<String>, albedo: Rgb) -> Self {
         Self {
@@ -156,11 +171,12 @@ impl Material {
         }
     }
 
-    /// Emitted radiance at texture coordinates `uv`: `emission`, times the
-    /// emission texture (looked up in `textures`) where there is one.
-    pub fn emission_at(&self, textures: &[crate::Texture], uv: glam::Vec2) -> Rgb {
+    /// Emitted radiance at a point whose UV sets 0 and 1 are `uvs`:
+    /// `emission`, times the emission texture (looked up in `textures`)
+    /// where there is one.
+    pub fn emission_at(&self, textures: &[crate::Texture], uvs: [glam::Vec2; 2]) -> Rgb {
         match self.emission_texture {
-            Some(t) => self.emission * textures[t].sample(uv),
+            Some(t) => self.emission * textures[t].lookup(uvs),
             None => self.emission,
         }
     }

@@ -23,7 +23,7 @@ pub struct Mesh {
     /// Per-vertex colours (glTF COLOR_0, linear RGB, alpha dropped):
     /// they multiply the material's base colour.
     pub colors: Option<Vec<Rgb>>,
-    /// Per-vertex tangents of UV set 0 for normal maps (glTF TANGENT, or
+    /// Per-vertex tangents of the normal map's UV set (glTF TANGENT, or
     /// MikkTSpace): xyz along +u, w = ±1 the handedness (bitangent =
     /// w · normal × tangent).
     pub tangents: Option<Vec<glam::Vec4>>,
@@ -39,6 +39,15 @@ pub struct CleanupReport {
 }
 
 impl Mesh {
+    /// UV set `set` (0: [`Mesh::uv0`], 1: [`Mesh::uv1`]), if the mesh has it.
+    pub fn uv_set(&self, set: usize) -> Option<&[Vec2]> {
+        match set {
+            0 => self.uv0.as_deref(),
+            1 => self.uv1.as_deref(),
+            _ => None,
+        }
+    }
+
     /// Checks the invariants; returns a description of the first violation.
     pub fn validate(&self) -> Result<(), String> {
         let n = self.positions.len();

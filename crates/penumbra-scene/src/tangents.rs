@@ -1,6 +1,7 @@
 //! Tangent frames for normal maps: MikkTSpace (Mikkelsen 2008, the
 //! convention glTF and the tools that bake normal maps use), computed by the
-//! `bevy_mikktspace` crate from a mesh's positions, normals and UV set 0.
+//! `bevy_mikktspace` crate from a mesh's positions, normals and the UV set
+//! of its normal map.
 
 use crate::mesh::Mesh;
 use glam::Vec4;
@@ -57,16 +58,16 @@ impl bevy_mikktspace::Geometry for Frames<'_> {
 }
 
 /// Per-vertex MikkTSpace tangents (xyz, w = handedness) of a mesh with
-/// normals and UV set 0 (else none: `+x`, w = 1 everywhere). MikkTSpace
+/// normals and UV set `uv_set` (else none: `+x`, w = 1 everywhere). MikkTSpace
 /// gives each triangle corner its own frame; a vertex shared by corners
 /// whose frames differ (a mirrored UV seam that shares vertices) keeps the
 /// last one.
-pub fn mikktspace_tangents(mesh: &Mesh) -> Vec<Vec4> {
+pub fn mikktspace_tangents(mesh: &Mesh, uv_set: usize) -> Vec<Vec4> {
     let n = mesh.positions.len();
     let mut frames = Frames {
         mesh,
         normals: mesh.normals.as_deref().unwrap_or(&[]),
-        uvs: mesh.uv0.as_deref().unwrap_or(&[]),
+        uvs: mesh.uv_set(uv_set).unwrap_or(&[]),
         tangents: vec![Vec4::new(1.0, 0.0, 0.0, 1.0); n],
     };
     if frames.normals.len() == n && frames.uvs.len() == n {
@@ -88,24 +89,33 @@ mod tests {
     /// turns and w with it, the bitangent stays.
     #[test]
     fn tangents_follow_u_and_the_bitangent_points_up_the_image() {
-        let quad = |u: [f32; 4]| Mesh {
-            positions: vec![Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::Y],
-            normals: Some(vec![Vec3::Z; 4]),
-            uv0: Some(vec![
+        let layout = |u: [f32; 4]| {
+            vec![
                 Vec2::new(u[0], 0.0),
                 Vec2::new(u[1], 0.0),
                 Vec2::new(u[2], 1.0),
                 Vec2::new(u[3], 1.0),
-            ]),
+            ]
+        };
+        let (plain, mirrored) = ([0.0, 1.0, 1.0, 0.0], [1.0, 0.0, 0.0, 1.0]);
+        // Each layout once as set 0 and once as set 1 (the other layout in
+        // the other set): the frame follows the set asked for.
+        let quad = |uv0: [f32; 4], uv1: [f32; 4]| Mesh {
+            positions: vec![Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::Y],
+            normals: Some(vec![Vec3::Z; 4]),
+            uv0: Some(layout(uv0)),
+            uv1: Some(layout(uv1)),
             indices: vec![[0, 1, 2], [0, 2, 3]],
             ..Default::default()
         };
-        for (u, tangent) in [
-            ([0.0, 1.0, 1.0, 0.0], Vec4::new(1.0, 0.0, 0.0, -1.0)),
-            ([1.0, 0.0, 0.0, 1.0], Vec4::new(-1.0, 0.0, 0.0, 1.0)),
+        for (mesh, set, tangent) in [
+            (quad(plain, mirrored), 0, Vec4::new(1.0, 0.0, 0.0, -1.0)),
+            (quad(mirrored, plain), 0, Vec4::new(-1.0, 0.0, 0.0, 1.0)),
+            (quad(mirrored, plain), 1, Vec4::new(1.0, 0.0, 0.0, -1.0)),
+            (quad(plain, mirrored), 1, Vec4::new(-1.0, 0.0, 0.0, 1.0)),
         ] {
-            for t in mikktspace_tangents(&quad(u)) {
-                assert!((t - tangent).length() < 1e-5, "{t} vs {tangent}");
+            for t in mikktspace_tangents(&mesh, set) {
+                assert!((t - tangent).length() < 1e-5, "set {set}: {t} vs {tangent}");
                 let b = Vec3::Z.cross(t.truncate()) * t.w;
                 assert!((b + Vec3::Y).length() < 1e-5, "bitangent {b}");
             }

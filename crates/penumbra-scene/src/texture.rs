@@ -24,6 +24,10 @@ pub enum Wrap {
 impl Wrap {
     /// The texel index for index `i` of an axis of `n` texels.
     pub fn index(self, i: i64, n: i64) -> usize {
+        // Inside the axis every mode is the identity (and no division).
+        if (0..n).contains(&i) {
+            return i as usize;
+        }
         (match self {
             Wrap::Repeat => i.rem_euclid(n),
             Wrap::ClampToEdge => i.clamp(0, n - 1),
@@ -48,9 +52,18 @@ pub struct Texture {
     /// Applied to texture coordinates before the lookup (glTF
     /// `KHR_texture_transform`: `uv' = T(offset) · R(rotation) · S(scale) · uv`).
     pub uv_transform: Affine2,
+    /// The UV set the texture reads: 0 (glTF `TEXCOORD_0`) or 1
+    /// (`TEXCOORD_1`), as the textureInfo's `texCoord` says.
+    pub uv_set: usize,
 }
 
 impl Texture {
+    /// The texture at a point whose coordinates in UV sets 0 and 1 are
+    /// `uvs`: [`Texture::sample`] on its own set.
+    pub fn lookup(&self, uvs: [Vec2; 2]) -> Rgb {
+        self.sample(uvs[self.uv_set.min(1)])
+    }
+
     /// Bilinear lookup at `uv` (after [`Texture::uv_transform`]), wrapped
     /// per axis by [`Texture::wrap`].
     pub fn sample(&self, uv: Vec2) -> Rgb {
@@ -63,15 +76,15 @@ impl Texture {
         let y = uv.y * self.height as f32 - 0.5;
         let (x0, y0) = (x.floor(), y.floor());
         let (fx, fy) = (x - x0, y - y0);
-        let at = |xi: i64, yi: i64| -> Rgb {
-            let xi = self.wrap[0].index(xi, w);
-            let yi = self.wrap[1].index(yi, h);
-            self.texels[yi * self.width as usize + xi]
-        };
+        // The two columns and the two rows of the 2×2 texels, wrapped once.
         let (x0, y0) = (x0 as i64, y0 as i64);
-        let top = at(x0, y0).lerp(at(x0 + 1, y0), fx);
-        let bottom = at(x0, y0 + 1).lerp(at(x0 + 1, y0 + 1), fx);
-        top.lerp(bottom, fy)
+        let [left, right] = [x0, x0.saturating_add(1)].map(|i| self.wrap[0].index(i, w));
+        let [top, bottom] =
+            [y0, y0.saturating_add(1)].map(|i| self.wrap[1].index(i, h) * self.width as usize);
+        let t = &self.texels;
+        let upper = t[top + left].lerp(t[top + right], fx);
+        let lower = t[bottom + left].lerp(t[bottom + right], fx);
+        upper.lerp(lower, fy)
     }
 }
 
@@ -88,6 +101,7 @@ mod tests {
             texels: vec![Rgb::ZERO, Rgb::ONE],
             wrap: [Wrap::Repeat; 2],
             uv_transform: Affine2::IDENTITY,
+            uv_set: 0,
         };
         assert!((t.sample(Vec2::new(0.25, 0.5)) - Rgb::ZERO).length() < 1e-6);
         assert!((t.sample(Vec2::new(0.5, 0.5)) - Rgb::splat(0.5)).length() < 1e-6);
@@ -111,6 +125,7 @@ mod tests {
             texels: vec![Rgb::ZERO, Rgb::ONE],
             wrap: [Wrap::ClampToEdge, Wrap::Repeat],
             uv_transform: Affine2::IDENTITY,
+            uv_set: 0,
         };
         // Past the right edge, clamped: the last texel, not the first.
         assert!((t.sample(Vec2::new(1.25, 0.5)) - Rgb::ONE).length() < 1e-6);
@@ -120,5 +135,21 @@ mod tests {
         };
         assert!((m.sample(Vec2::new(1.25, 0.5)) - Rgb::ONE).length() < 1e-6);
         assert!((m.sample(Vec2::new(1.75, 0.5)) - Rgb::ZERO).length() < 1e-6);
+    }
+
+    #[test]
+    fn lookup_reads_the_texture_uv_set() {
+        let t = Texture {
+            name: "t".into(),
+            width: 2,
+            height: 1,
+            texels: vec![Rgb::ZERO, Rgb::ONE],
+            wrap: [Wrap::ClampToEdge; 2],
+            uv_transform: Affine2::IDENTITY,
+            uv_set: 1,
+        };
+        let uvs = [Vec2::new(0.0, 0.5), Vec2::new(1.0, 0.5)];
+        assert_eq!(t.lookup(uvs), Rgb::ONE);
+        assert_eq!(Texture { uv_set: 0, ..t }.lookup(uvs), Rgb::ZERO);
     }
 }

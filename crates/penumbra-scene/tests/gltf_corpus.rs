@@ -287,9 +287,15 @@ fn features_hierarchy_instancing_camera_light_materials() {
     assert_eq!((mr.transmission, mr.specular), (0.0, 1.0));
     assert_eq!(mr.specular_color, Vec3::ONE);
 
-    // Warnings: one per material with ignored parts, one per kind of skipped data.
+    // Warnings: one per material with ignored parts, one per kind of
+    // skipped data, and one for the textured primitive without TEXCOORD_0.
     let w = &scene.warnings;
-    assert_eq!(w.len(), 4, "{w:#?}");
+    assert_eq!(w.len(), 5, "{w:#?}");
+    assert!(
+        w.iter()
+            .any(|w| w.contains("UV set") && w.contains("meshes[0].primitives[1] (TEXCOORD_0)")),
+        "{w:#?}"
+    );
     // shiny's normalTexture is read, but its primitive has no NORMAL to
     // build a tangent frame from.
     assert!(shiny.normal_map.is_some());
@@ -410,8 +416,15 @@ fn materials_map_to_the_metallic_roughness_model() {
     assert_eq!((d.metallic, d.roughness, d.ior), (1.0, 1.0, 1.5));
     assert_eq!((d.transmission, d.specular), (0.0, 1.0));
 
-    // Only what is still ignored is warned about: the specular texture.
-    assert_eq!(scene.warnings.len(), 1, "{:#?}", scene.warnings);
+    // Only what is still ignored is warned about: the specular texture;
+    // and the textured metal's primitive has no TEXCOORD_0.
+    assert_eq!(scene.warnings.len(), 2, "{:#?}", scene.warnings);
+    assert!(
+        scene.warnings[1].contains("UV set")
+            && scene.warnings[1].contains("meshes[0].primitives[2] (TEXCOORD_0)"),
+        "{:#?}",
+        scene.warnings
+    );
     let w = &scene.warnings[0];
     assert!(
         w.contains("material 'coated' (materials[3]): specularTexture ignored"),
@@ -452,4 +465,27 @@ fn ok_instancing() {
             );
         }
     }
+}
+
+/// TEXCOORD_1: every texture of the file's four materials reads UV set 1
+/// (`texCoord: 1`, or KHR_texture_transform's `texCoord` override), both
+/// sets are loaded as written (set 0 mirrored in u), and nothing is warned.
+#[test]
+fn ok_texcoord1() {
+    let scene = load("ok_texcoord1.gltf");
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    assert_eq!(scene.materials.len(), 4);
+    let mut read = 0;
+    for m in &scene.materials {
+        for t in m.textures() {
+            assert_eq!(scene.textures[t].uv_set, 1, "material '{}'", m.name);
+            read += 1;
+        }
+    }
+    // Base colour, emission, base colour + its alpha, base colour.
+    assert_eq!(read, 5);
+    let mesh = &scene.meshes[0];
+    let (uv0, uv1) = (mesh.uv0.as_ref().unwrap(), mesh.uv1.as_ref().unwrap());
+    assert_eq!(uv1[0], Vec2::new(0.0, 1.0));
+    assert_eq!(uv0[0], Vec2::new(1.0, 1.0));
 }

@@ -50,7 +50,8 @@ pub struct SurfaceHit {
     /// Unit shading normal (interpolated vertex normal, or `ng`), on the
     /// same side as `ng`.
     pub ns: Vec3,
-    pub uv: Vec2,
+    /// Texture coordinates in UV sets 0 and 1 ([`SceneGeometry::uvs_at`]).
+    pub uvs: [Vec2; 2],
     /// Interpolated vertex colour (glTF COLOR_0), 1 without one: it
     /// multiplies the material's base colour.
     pub color: Vec3,
@@ -121,7 +122,8 @@ impl SceneGeometry {
                     })
                 });
                 let first_uv = alpha_uvs.len();
-                alpha_uvs.extend(mesh.indices.iter().map(|tri| match &mesh.uv0 {
+                let set = coverage.texture.map_or(0, |t| alpha_textures[t].uv_set);
+                alpha_uvs.extend(mesh.indices.iter().map(|tri| match mesh.uv_set(set) {
                     Some(uv) => tri.map(|i| uv[i as usize]),
                     None => [Vec2::ZERO, Vec2::X, Vec2::Y],
                 }));
@@ -249,7 +251,7 @@ impl SceneGeometry {
                 t: h.t,
                 ng: h.n,
                 ns: h.n,
-                uv: Vec2::ZERO,
+                uvs: [Vec2::ZERO; 2],
                 color: Vec3::ONE,
                 b1: 0.0,
                 b2: 0.0,
@@ -297,21 +299,21 @@ impl SceneGeometry {
         }
     }
 
-    /// The first UV set at barycentrics (b1, b2) of `triangle` (the
-    /// barycentrics themselves on a mesh without UVs): all that texture
+    /// UV sets 0 and 1 at barycentrics (b1, b2) of `triangle` (the
+    /// barycentrics themselves for a set the mesh lacks): all that texture
     /// lookups on a light sample need, without a whole [`SurfaceHit`].
-    pub fn uv_at(&self, scene: &Scene, triangle: u32, b1: f32, b2: f32) -> Vec2 {
+    pub fn uvs_at(&self, scene: &Scene, triangle: u32, b1: f32, b2: f32) -> [Vec2; 2] {
         let src = self.sources[triangle as usize];
         let mesh = &scene.meshes[scene.instances[src.instance as usize].mesh];
-        match &mesh.uv0 {
+        let idx = mesh.indices[src.local as usize];
+        [0, 1].map(|set| match mesh.uv_set(set) {
             Some(uv) => {
-                let idx = mesh.indices[src.local as usize];
                 uv[idx[0] as usize] * (1.0 - b1 - b2)
                     + uv[idx[1] as usize] * b1
                     + uv[idx[2] as usize] * b2
             }
             None => Vec2::new(b1, b2),
-        }
+        })
     }
 
     /// The mesh tangent of `triangle` at barycentrics (b1, b2) in world
@@ -351,7 +353,7 @@ impl SceneGeometry {
         } else if ns.dot(ng) < 0.0 {
             ns = -ns;
         }
-        let uv = self.uv_at(scene, hit.triangle, b1, b2);
+        let uvs = self.uvs_at(scene, hit.triangle, b1, b2);
         let color = mesh.colors.as_deref().map_or(Vec3::ONE, interp3);
         // Interpolating the world vertices is more accurate than o + t d.
         let [a, b, c] = self.triangles[hit.triangle as usize];
@@ -361,7 +363,7 @@ impl SceneGeometry {
             t: hit.t,
             ng,
             ns,
-            uv,
+            uvs,
             color,
             b1,
             b2,

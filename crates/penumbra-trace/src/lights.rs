@@ -269,8 +269,8 @@ impl LightSampler {
                 let m = &scene.materials[material];
                 let radiance = match m.emission_texture {
                     Some(_) => {
-                        let uv = geometry.uv_at(scene, triangle, bary.x, bary.y);
-                        m.emission_at(&scene.textures, uv)
+                        let uvs = geometry.uvs_at(scene, triangle, bary.x, bary.y);
+                        m.emission_at(&scene.textures, uvs)
                     }
                     None => m.emission,
                 };
@@ -364,7 +364,7 @@ fn mean_texture_over_triangle(
         for j in 0..n {
             let u = [(i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / n as f32];
             let b = square_to_triangle(u);
-            sum += scene.textures[tex].sample(geometry.uv_at(scene, triangle, b.x, b.y));
+            sum += scene.textures[tex].lookup(geometry.uvs_at(scene, triangle, b.x, b.y));
         }
     }
     sum / (n * n) as f32

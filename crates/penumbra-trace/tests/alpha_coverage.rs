@@ -82,6 +82,7 @@ fn mask_cuts_where_alpha_is_below_the_cutoff() {
         texels: vec![Rgb::splat(0.2), Rgb::splat(0.8)],
         wrap: [Wrap::ClampToEdge; 2],
         uv_transform: glam::Affine2::IDENTITY,
+        uv_set: 0,
     });
     for (cutoff, factor, left, right) in [
         (0.5, 1.0, false, true),

@@ -73,6 +73,7 @@ fn furnace_with_an_emission_texture() {
         texels: vec![Rgb::ZERO, Rgb::splat(2.0)],
         wrap: [penumbra_scene::texture::Wrap::ClampToEdge; 2],
         uv_transform: glam::Affine2::IDENTITY,
+        uv_set: 0,
     });
     let m = Material {
         emission: Rgb::splat(le),

@@ -73,7 +73,14 @@ fn aov_head_on(model: &str, height: u32, aov: &str, spp: u32) -> penumbra_image:
     let file = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../../../shared/gltf-samples")
         .join(model);
-    let mut scene = load_scene(&file, &LoadOptions::default()).unwrap();
+    let out = head_on(&file, height, spp);
+    out.aovs.into_iter().find(|(n, _)| n == aov).unwrap().1
+}
+
+/// A glTF file seen head-on (orthographic, along −z, its bounds filling
+/// the image), `height` pixels high, by the `local` integrator with AOVs.
+fn head_on(file: &Path, height: u32, spp: u32) -> penumbra_trace::RenderOutput {
+    let mut scene = load_scene(file, &LoadOptions::default()).unwrap();
     let (lo, hi) = scene.bounds().unwrap();
     let (centre, size) = (0.5 * (lo + hi), hi - lo);
     scene.camera = Some(Camera::look_at(
@@ -87,15 +94,48 @@ fn aov_head_on(model: &str, height: u32, aov: &str, spp: u32) -> penumbra_image:
     settings.height = height;
     settings.spp = spp;
     settings.integrator = IntegratorKind::Local;
-    let out = render(
+    render(
         &scene,
         &settings,
         &RenderOptions {
             aovs: true,
             ..Default::default()
         },
-    );
-    out.aovs.into_iter().find(|(n, _)| n == aov).unwrap().1
+    )
+}
+
+/// TEXCOORD_1 (penumbra-scene's corpus file `ok_texcoord1.gltf`): four
+/// quad rows whose every texture reads UV set 1, where set 0 is mirrored
+/// in u; the texture is black and transparent on its left half, white and
+/// opaque on its right. Each row is dark on the left and bright on the
+/// right: base colour, emission (with no light, the image itself), the
+/// alpha mask (the black background shows through on the left) and the
+/// base colour whose set KHR_texture_transform overrides. Reading set 0
+/// mirrors every row.
+#[test]
+fn textures_read_their_uv_set() {
+    let file = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../penumbra-scene/tests/corpus/gltf/ok_texcoord1.gltf");
+    // 20 pixels per unit: rows m = 0..4 centred on pixel row 10 + 25 m;
+    // x = ∓0.75 (u = 0.125 and 0.875, one texel each) at columns 5 and 34.
+    let out = head_on(&file, 95, 4);
+    assert_eq!((out.image.width, out.image.height), (40, 95));
+    let albedo = &out.aovs.iter().find(|(n, _)| n == "albedo").unwrap().1;
+    for (row, what, image) in [
+        (0, "base colour", albedo),
+        (1, "emission", &out.image),
+        (2, "alpha mask", albedo),
+        (3, "texCoord override", albedo),
+    ] {
+        let y = 10 + 25 * row;
+        let (left, right) = (image.get(5, y), image.get(34, y));
+        eprintln!("{what}: left {left}, right {right}");
+        assert!(left.max_element() < 0.02, "{what}: left {left}");
+        assert!(
+            (right - Vec3::ONE).abs().max_element() < 0.02,
+            "{what}: right {right}"
+        );
+    }
 }
 
 /// NormalTangentTest: each of its 15 pairs shows a bump made of geometry

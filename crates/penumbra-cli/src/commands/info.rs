@@ -174,7 +174,7 @@ fn print_scene(path: &std::path::Path) -> Result<()> {
     println!("triangles:  {}", scene.triangle_count());
     println!("materials:  {}", scene.materials.len());
     for m in &scene.materials {
-        println!("  '{}': {}", m.name, material_summary(m));
+        println!("  '{}': {}", m.name, material_summary(m, &scene.textures));
     }
     println!("textures:   {}", scene.textures.len());
     match scene.bounds() {
@@ -292,7 +292,7 @@ fn print_scene(path: &std::path::Path) -> Result<()> {
 }
 
 /// A material's model and what modulates it, in words.
-fn material_summary(m: &penumbra_scene::Material) -> String {
+fn material_summary(m: &penumbra_scene::Material, all: &[penumbra_scene::Texture]) -> String {
     use penumbra_scene::AlphaMode;
     use penumbra_shading::bsdf::Bsdf;
     let mut parts = vec![
@@ -309,16 +309,23 @@ fn material_summary(m: &penumbra_scene::Material) -> String {
         .to_string(),
     ];
     let textures = [
-        (m.albedo_texture.is_some(), "base colour"),
-        (m.metallic_roughness_texture.is_some(), "metallic–roughness"),
-        (m.emission_texture.is_some(), "emission"),
-        (m.normal_map.is_some(), "normal"),
+        (m.albedo_texture, "base colour"),
+        (m.metallic_roughness_texture, "metallic–roughness"),
+        (m.emission_texture, "emission"),
+        (m.normal_map.map(|n| n.texture), "normal"),
         (
-            m.occlusion_map.is_some(),
+            m.occlusion_map.map(|o| o.texture),
             "occlusion (raster environment light only)",
         ),
     ];
-    let named: Vec<&str> = textures.iter().filter(|t| t.0).map(|t| t.1).collect();
+    // The UV set where it is not the first.
+    let named: Vec<String> = textures
+        .iter()
+        .filter_map(|&(t, name)| match all[t?].uv_set {
+            0 => Some(name.to_string()),
+            set => Some(format!("{name} on TEXCOORD_{set}")),
+        })
+        .collect();
     if !named.is_empty() {
         parts.push(format!("textures: {}", named.join(", ")));
     }

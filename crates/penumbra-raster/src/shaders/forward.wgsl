@@ -59,8 +59,7 @@ fn vs_shadow_masked(
 
 @fragment
 fn fs_shadow_masked(in: DiscardingDepthOut) {
-    let duv = vec4<f32>(dpdx(in.uv), dpdy(in.uv));
-    if masked_out(instances[in.instance].material, in.uv, duv) {
+    if masked_out(instances[in.instance].material, tex_coords(in.uv)) {
         discard;
     }
 }
@@ -126,8 +125,8 @@ struct VsOut {
     // Atlas coordinates of the AO and irradiance bakes (lightmap.wgsl).
     @location(3) ao_uv: vec2<f32>,
     @location(4) irradiance_uv: vec2<f32>,
-    // Texture coordinates (UV set 0) and vertex colour (textures.wgsl).
-    @location(5) uv: vec2<f32>,
+    // Texture coordinates (UV sets 0 and 1) and vertex colour (textures.wgsl).
+    @location(5) uv: vec4<f32>,
     @location(6) color: vec3<f32>,
     // World tangent of UV set 0 (w = handedness; 0 without tangents).
     @location(7) tangent: vec4<f32>,
@@ -144,8 +143,8 @@ fn culled_back_face(instance: u32, facing: bool) -> bool {
 
 // Whether a fragment is discarded: a culled back face, or cut away by its
 // material's alpha mask (glTF MASK: α < alphaCutoff).
-fn discarded(instance: u32, facing: bool, uv: vec2<f32>, duv: vec4<f32>) -> bool {
-    return culled_back_face(instance, facing) || masked_out(instances[instance].material, uv, duv);
+fn discarded(instance: u32, facing: bool, tc: TexCoords) -> bool {
+    return culled_back_face(instance, facing) || masked_out(instances[instance].material, tc);
 }
 
 // Depth prepass of scenes with culled back faces or alpha masks (vs_depth's
@@ -153,7 +152,7 @@ fn discarded(instance: u32, facing: bool, uv: vec2<f32>, duv: vec4<f32>) -> bool
 struct DiscardingDepthOut {
     @builtin(position) @invariant clip: vec4<f32>,
     @location(0) @interpolate(flat) instance: u32,
-    @location(1) uv: vec2<f32>,
+    @location(1) uv: vec4<f32>,
 }
 
 @vertex
@@ -169,8 +168,7 @@ fn vs_depth_discarding(
 
 @fragment
 fn fs_depth_discarding(in: DiscardingDepthOut, @builtin(front_facing) facing: bool) {
-    let duv = vec4<f32>(dpdx(in.uv), dpdy(in.uv));
-    if discarded(in.instance, facing, in.uv, duv) {
+    if discarded(in.instance, facing, tex_coords(in.uv)) {
         discard;
     }
 }
@@ -277,18 +275,18 @@ fn visible_normals(in: VsOut, wo: vec3<f32>, ng_raw: vec3<f32>) -> VisibleNormal
     return VisibleNormals(ng, ns);
 }
 
-// The fragment as a surface. ng_raw = cross(dpdx(p), dpdy(p)) and duv =
-// (dpdx(uv), dpdy(uv)), taken by the entry point (derivatives need uniform
-// control flow): see surface_at.
-fn surface_of(in: VsOut, facing: bool, ng_raw: vec3<f32>, duv: vec4<f32>) -> Surface {
+// The fragment as a surface. ng_raw = cross(dpdx(p), dpdy(p)) and tc (the
+// texture coordinates and their derivatives), taken by the entry point
+// (derivatives need uniform control flow): see surface_at.
+fn surface_of(in: VsOut, facing: bool, ng_raw: vec3<f32>, tc: TexCoords) -> Surface {
     let p = in.world;
     let inst = instances[in.instance];
-    let textured = textured_material(inst.material, in.uv, duv, in.color);
+    let textured = textured_material(inst.material, tc, in.color);
     let mat = textured.mat;
     var s: Surface;
     s.env = textured.env;
-    s.culled = discarded(in.instance, facing, in.uv, duv);
-    s.occlusion = baked_occlusion(inst.material, in.uv, duv);
+    s.culled = discarded(in.instance, facing, tc);
+    s.occlusion = baked_occlusion(inst.material, tc);
     s.p = p;
     s.material = inst.material;
 
@@ -313,7 +311,7 @@ fn surface_of(in: VsOut, facing: bool, ng_raw: vec3<f32>, duv: vec4<f32>) -> Sur
     // Normal maps act on the front side's normals (the CPU's order), then
     // the result turns to the viewer's side with them.
     let side = select(-1.0, 1.0, front);
-    let ns = side * normal_mapped(inst.material, in.uv, duv, in.tangent, side * n.ns, side * n.ng);
+    let ns = side * normal_mapped(inst.material, tc, in.tangent, side * n.ns, side * n.ng);
     s.frame = frame_from_normal(ns);
     var wo_local = to_local(s.frame, wo);
     if wo_local.z <= 0.0 {
@@ -327,7 +325,7 @@ fn surface_of(in: VsOut, facing: bool, ng_raw: vec3<f32>, duv: vec4<f32>) -> Sur
 // The fragment as a surface; call at the top of an entry point (the
 // derivatives it takes need uniform control flow).
 fn surface_at(in: VsOut, facing: bool) -> Surface {
-    return surface_of(in, facing, cross(dpdx(in.world), dpdy(in.world)), vec4<f32>(dpdx(in.uv), dpdy(in.uv)));
+    return surface_of(in, facing, cross(dpdx(in.world), dpdy(in.world)), tex_coords(in.uv));
 }
 
 // Radiance towards the viewer from light i without shadows: f · E⊥ ·
@@ -374,7 +372,7 @@ fn ambient_occlusion(in: VsOut) -> f32 {
 fn fs_ao_prepass(in: VsOut, @builtin(front_facing) facing: bool) -> @location(0) vec4<f32> {
     // Only the normals of surface_of: no material work in the prepass.
     let n = visible_normals(in, view_direction(in.world), cross(dpdx(in.world), dpdy(in.world)));
-    if discarded(in.instance, facing, in.uv, vec4<f32>(dpdx(in.uv), dpdy(in.uv))) {
+    if discarded(in.instance, facing, tex_coords(in.uv)) {
         discard;
     }
     let z = max(dot(camera.eye.xyz - in.world, camera.back.xyz), 1e-30);
@@ -448,7 +446,7 @@ fn fs_forward(in: VsOut, @builtin(front_facing) facing: bool) -> @location(0) ve
 @fragment
 fn fs_blend(in: VsOut, @builtin(front_facing) facing: bool) -> @location(0) vec4<f32> {
     let s = surface_at(in, facing);
-    let alpha = coverage(s.material, in.uv, vec4<f32>(dpdx(in.uv), dpdy(in.uv)));
+    let alpha = coverage(s.material, tex_coords(in.uv));
     if s.culled {
         discard;
     }

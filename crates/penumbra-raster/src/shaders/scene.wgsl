@@ -29,7 +29,8 @@ struct GpuInstance {
     first_uv: u32,
     first_color: u32,
     first_tangent: u32,
-    _pad1: u32,
+    // First vertex of the mesh's UV set 1 in vertex_uvs.
+    first_uv1: u32,
 }
 
 // How each light is shadowed by a shadow map, indexed like the lights;

@@ -5,7 +5,8 @@
 // its texture). Minified textures are read trilinearly from box-filtered
 // levels. Appended to the forward module.
 
-// Per vertex of every mesh (GpuInstance::first_uv / first_color).
+// Per vertex of every mesh (GpuInstance::first_uv, first_uv1 /
+// first_color): UV sets 0 and 1 in one array.
 @group(0) @binding(25) var<storage, read> vertex_uvs: array<vec2<f32>>;
 @group(0) @binding(26) var<storage, read> vertex_colors: array<vec4<f32>>;
 @group(0) @binding(27) var<storage, read> textures: array<GpuTexture>;
@@ -29,7 +30,8 @@ struct GpuTexture {
     wrap_u: u32,
     wrap_v: u32,
     format: u32,
-    _pad1: u32,
+    // The UV set the texture reads (0 or 1).
+    uv_set: u32,
 }
 
 struct GpuMaterialTextures {
@@ -182,13 +184,42 @@ fn sample_texture(index: u32, uv: vec2<f32>, duv: vec4<f32>) -> vec3<f32> {
     return mix(a, sample_level(t, min(l0 + 1u, t.levels - 1u), st), f);
 }
 
-// Texture coordinates (UV set 0) and colour (COLOR_0, else white) of
-// vertex `vertex` of an instance.
-fn vertex_uv(inst: GpuInstance, vertex: u32) -> vec2<f32> {
-    if inst.first_uv == NO_VERTEX_DATA {
-        return vec2<f32>(0.0);
+// A fragment's texture coordinates in UV sets 0 (xy) and 1 (zw), and
+// their screen derivatives (∂/∂x, ∂/∂y).
+struct TexCoords {
+    uv: vec4<f32>,
+    dx: vec4<f32>,
+    dy: vec4<f32>,
+}
+
+// The fragment's TexCoords from the interpolated `uv`; call in uniform
+// control flow (derivatives).
+fn tex_coords(uv: vec4<f32>) -> TexCoords {
+    return TexCoords(uv, dpdx(uv), dpdy(uv));
+}
+
+// Texture `index` on its own UV set (Texture::lookup on the CPU). One
+// sample_texture call, on selected coordinates: a call per set would
+// double the inlined lookups, and software drivers' shader compilers
+// (lavapipe's LLVM) then take minutes.
+fn lookup_texture(index: u32, tc: TexCoords) -> vec3<f32> {
+    let set1 = textures[index].uv_set == 1u;
+    let uv = select(tc.uv.xy, tc.uv.zw, set1);
+    let duv = select(vec4<f32>(tc.dx.xy, tc.dy.xy), vec4<f32>(tc.dx.zw, tc.dy.zw), set1);
+    return sample_texture(index, uv, duv);
+}
+
+// Texture coordinates in UV sets 0 (xy) and 1 (zw; 0 where the mesh lacks
+// a set) and colour (COLOR_0, else white) of vertex `vertex` of an instance.
+fn vertex_uv(inst: GpuInstance, vertex: u32) -> vec4<f32> {
+    var uv = vec4<f32>(0.0);
+    if inst.first_uv != NO_VERTEX_DATA {
+        uv = vec4<f32>(vertex_uvs[inst.first_uv + vertex], uv.zw);
     }
-    return vertex_uvs[inst.first_uv + vertex];
+    if inst.first_uv1 != NO_VERTEX_DATA {
+        uv = vec4<f32>(uv.xy, vertex_uvs[inst.first_uv1 + vertex]);
+    }
+    return uv;
 }
 
 fn vertex_color(inst: GpuInstance, vertex: u32) -> vec3<f32> {
@@ -232,28 +263,28 @@ fn perturb_normal(texel: vec3<f32>, scale: f32, n: vec3<f32>, t: vec4<f32>) -> v
 // The shading normal of material `material` on the front side (ns_front,
 // ng_front: the normals on the side the winding calls front), normal-mapped
 // as the CPU does: kept only on the geometric normal's side.
-fn normal_mapped(material: u32, uv: vec2<f32>, duv: vec4<f32>, t: vec4<f32>, ns_front: vec3<f32>, ng_front: vec3<f32>) -> vec3<f32> {
+fn normal_mapped(material: u32, tc: TexCoords, t: vec4<f32>, ns_front: vec3<f32>, ng_front: vec3<f32>) -> vec3<f32> {
     let tx = material_textures[material];
     if tx.normal == NO_TEXTURE || t.w == 0.0 {
         return ns_front;
     }
-    let mapped = perturb_normal(sample_texture(tx.normal, uv, duv), tx.normal_scale, ns_front, t);
+    let mapped = perturb_normal(lookup_texture(tx.normal, tc), tx.normal_scale, ns_front, t);
     return select(ns_front, mapped, dot(mapped, ng_front) > 0.0);
 }
 
 // glTF occlusionTexture: the factor 1 + strength · (R − 1) on the
 // environment term of material `material` (1 without the texture).
-fn baked_occlusion(material: u32, uv: vec2<f32>, duv: vec4<f32>) -> f32 {
+fn baked_occlusion(material: u32, tc: TexCoords) -> f32 {
     let tx = material_textures[material];
     if tx.occlusion == NO_TEXTURE {
         return 1.0;
     }
-    return 1.0 + tx.occlusion_strength * (sample_texture(tx.occlusion, uv, duv).x - 1.0);
+    return 1.0 + tx.occlusion_strength * (lookup_texture(tx.occlusion, tc).x - 1.0);
 }
 
 // Coverage α of material `material` (glTF: baseColorFactor.a × the base
 // colour texture's alpha; 1 for opaque materials).
-fn coverage(material: u32, uv: vec2<f32>, duv: vec4<f32>) -> f32 {
+fn coverage(material: u32, tc: TexCoords) -> f32 {
     let tx = material_textures[material];
     if tx.alpha_mode == ALPHA_OPAQUE {
         return 1.0;
@@ -261,13 +292,13 @@ fn coverage(material: u32, uv: vec2<f32>, duv: vec4<f32>) -> f32 {
     if tx.alpha_texture == NO_TEXTURE {
         return tx.alpha_factor;
     }
-    return tx.alpha_factor * sample_texture(tx.alpha_texture, uv, duv).x;
+    return tx.alpha_factor * lookup_texture(tx.alpha_texture, tc).x;
 }
 
 // Whether a MASK material cuts the fragment away (α < alphaCutoff).
-fn masked_out(material: u32, uv: vec2<f32>, duv: vec4<f32>) -> bool {
+fn masked_out(material: u32, tc: TexCoords) -> bool {
     let tx = material_textures[material];
-    return tx.alpha_mode == ALPHA_MASK && coverage(material, uv, duv) < tx.alpha_cutoff;
+    return tx.alpha_mode == ALPHA_MASK && coverage(material, tc) < tx.alpha_cutoff;
 }
 
 struct TexturedMaterial {
@@ -275,23 +306,23 @@ struct TexturedMaterial {
     env: GpuEnvMaterial,
 }
 
-// Material `material` at a fragment with texture coordinates uv (duv their
-// screen derivatives) and vertex colour `color`, as the CPU's
+// Material `material` at a fragment with texture coordinates tc and
+// vertex colour `color`, as the CPU's
 // TraceContext::shading makes it: the base colour times the albedo texture
 // and the vertex colour (Bsdf::tinted), roughness × G and metallic × B of
 // the metallic–roughness texture, emission × the emission texture; and what
 // the environment light needs of the result. Conductors keep their index
 // (the host warns: tinting them solves for a new n + iκ).
-fn textured_material(material: u32, uv: vec2<f32>, duv: vec4<f32>, color: vec3<f32>) -> TexturedMaterial {
+fn textured_material(material: u32, tc: TexCoords, color: vec3<f32>) -> TexturedMaterial {
     var mat = materials[material];
     var env = environment_materials[material];
     let tx = material_textures[material];
     var tint = color;
     if tx.albedo != NO_TEXTURE {
-        tint *= sample_texture(tx.albedo, uv, duv);
+        tint *= lookup_texture(tx.albedo, tc);
     }
     if tx.emission != NO_TEXTURE {
-        mat.emission *= sample_texture(tx.emission, uv, duv);
+        mat.emission *= lookup_texture(tx.emission, tc);
     }
     switch mat.model {
         case MODEL_LAMBERT, MODEL_PHONG_BLINN: {
@@ -305,7 +336,7 @@ fn textured_material(material: u32, uv: vec2<f32>, duv: vec4<f32>, color: vec3<f
         case MODEL_METALLIC_ROUGHNESS: {
             mat.base_color *= tint;
             if tx.metallic_roughness != NO_TEXTURE {
-                let g_b = sample_texture(tx.metallic_roughness, uv, duv);
+                let g_b = lookup_texture(tx.metallic_roughness, tc);
                 mat.roughness = clamp(mat.roughness * g_b.y, 0.0, 1.0);
                 mat.metallic = clamp(mat.metallic * g_b.z, 0.0, 1.0);
                 mat.alpha = mat.roughness * mat.roughness;

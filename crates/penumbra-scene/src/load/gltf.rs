@@ -337,9 +337,11 @@ fn load_buffers<'a>(
 #[derive(Debug, Default)]
 struct Notes {
     skipped_modes: Vec<String>,
-    /// Primitives whose normal map has no tangent frame (no NORMAL or no
-    /// TEXCOORD_0 to build one).
+    /// Primitives whose normal map has no tangent frame (no NORMAL or not
+    /// the map's UV set to build one).
     no_tangent_frame: Vec<String>,
+    /// Primitives whose material reads a UV set they lack, with the set.
+    missing_uv_set: Vec<String>,
     morph_targets: Vec<String>,
     skins: Vec<usize>,
     singular: Vec<usize>,
@@ -360,7 +362,7 @@ struct Loader<'a> {
     meshes: HashMap<(usize, usize), Option<MeshId>>,
     materials: HashMap<usize, MaterialId>,
     /// Scene textures by glTF texture and UV transform (bits of its columns).
-    textures: HashMap<(usize, [u32; 6]), TextureId>,
+    textures: HashMap<(usize, usize, [u32; 6]), TextureId>,
     default_material: Option<MaterialId>,
     degenerate: usize,
     notes: Notes,
@@ -856,10 +858,20 @@ impl Loader<'_> {
             return Ok(None);
         }
         // A normal map needs a tangent frame: MikkTSpace when the file has
-        // no TANGENT (as glTF asks), which needs normals and TEXCOORD_0.
-        if self.scene.materials[material].normal_map.is_some() && out.tangents.is_none() {
-            if out.normals.is_some() && out.uv0.is_some() {
-                out.tangents = Some(crate::tangents::mikktspace_tangents(&out));
+        // no TANGENT (as glTF asks), which needs normals and the map's UV set.
+        let uses = self.scene.materials[material].textures();
+        let sets: Vec<usize> = uses.map(|t| self.scene.textures[t].uv_set).collect();
+        if let Some(&set) = sets.iter().find(|&&set| out.uv_set(set).is_none()) {
+            self.notes
+                .missing_uv_set
+                .push(format!("{base} (TEXCOORD_{set})"));
+        }
+        if let Some(map) = self.scene.materials[material].normal_map
+            && out.tangents.is_none()
+        {
+            let set = self.scene.textures[map.texture].uv_set;
+            if out.normals.is_some() && out.uv_set(set).is_some() {
+                out.tangents = Some(crate::tangents::mikktspace_tangents(&out, set));
             } else {
                 self.notes.no_tangent_frame.push(base.clone());
             }
@@ -881,8 +893,14 @@ impl Loader<'_> {
         }
         if !n.no_tangent_frame.is_empty() {
             w.push(format!(
-                "{f}: normal map not applied (no NORMAL or TEXCOORD_0 to build a tangent frame from) on {}",
+                "{f}: normal map not applied (no NORMAL, or not the UV set the map reads, to build a tangent frame from) on {}",
                 list(&n.no_tangent_frame)
+            ));
+        }
+        if !n.missing_uv_set.is_empty() {
+            w.push(format!(
+                "{f}: textures read a UV set the primitive does not have (texture coordinates are undefined there: the texture looks flat or smeared) on {}",
+                list(&n.missing_uv_set)
             ));
         }
         if !n.skipped_modes.is_empty() {

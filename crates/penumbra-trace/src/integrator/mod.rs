@@ -72,7 +72,7 @@ impl TraceContext<'_> {
         let (mut ng, mut ns) = (hit.ng, hit.ns);
         let mut bsdf = material.bsdf;
         if let Some(t) = material.albedo_texture {
-            bsdf = bsdf.tinted(self.scene.textures[t].sample(hit.uv));
+            bsdf = bsdf.tinted(self.scene.textures[t].lookup(hit.uvs));
         }
         // glTF COLOR_0 multiplies the base colour (as the texture does).
         if hit.color != Vec3::ONE {
@@ -82,7 +82,7 @@ impl TraceContext<'_> {
         if let (Some(t), Bsdf::MetallicRoughness(mut m)) =
             (material.metallic_roughness_texture, bsdf)
         {
-            let texel = self.scene.textures[t].sample(hit.uv);
+            let texel = self.scene.textures[t].lookup(hit.uvs);
             m.roughness *= texel.y;
             m.metallic *= texel.z;
             bsdf = Bsdf::MetallicRoughness(m);
@@ -94,7 +94,7 @@ impl TraceContext<'_> {
                 .geometry
                 .tangent_at(self.scene, hit.triangle, hit.b1, hit.b2)
         {
-            let texel = self.scene.textures[map.texture].sample(hit.uv);
+            let texel = self.scene.textures[map.texture].lookup(hit.uvs);
             let mapped = map.perturb(texel, ns, t);
             if mapped.dot(ng) > 0.0 {
                 ns = mapped;
@@ -201,7 +201,7 @@ impl TraceContext<'_> {
         if !material.is_emissive() {
             return Rgb::ZERO;
         }
-        let le = material.emission_at(&self.scene.textures, hit.uv);
+        let le = material.emission_at(&self.scene.textures, hit.uvs);
         crate::lights::emitted(le, material.double_sided, hit.ng, wo)
     }
 

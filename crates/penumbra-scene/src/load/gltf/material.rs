@@ -1,8 +1,8 @@
 //! glTF materials → penumbra materials, and textures.
 //!
 //! Every material maps to the glTF metallic–roughness model
-//! (`Bsdf::MetallicRoughness`): `baseColorFactor` (× `baseColorTexture` on
-//! TEXCOORD_0, sRGB-decoded), `metallicFactor`, `roughnessFactor`
+//! (`Bsdf::MetallicRoughness`): `baseColorFactor` (× `baseColorTexture`,
+//! sRGB-decoded), `metallicFactor`, `roughnessFactor`
 //! (× `metallicRoughnessTexture`, linear, roughness in G and metallic in B),
 //! `KHR_materials_ior` (`ior`, default 1.5), `KHR_materials_transmission`
 //! (`transmissionFactor`), `KHR_materials_specular` (`specularFactor`,
@@ -24,8 +24,13 @@
 //! `normalTexture` with its `scale` (tangents: TANGENT, else MikkTSpace;
 //! see [`crate::tangents`]).
 //!
-//! `occlusionTexture` with its strength, on TEXCOORD_0 (used by the raster
-//! engine's environment term).
+//! `occlusionTexture` with its strength (used by the raster engine's
+//! environment term).
+//!
+//! Every texture reads the UV set its textureInfo names (`texCoord`, or
+//! `KHR_texture_transform`'s `texCoord` override): TEXCOORD_0 or
+//! TEXCOORD_1, with the extension's transform; normal maps use the tangent
+//! frame of their own set.
 //!
 //! `alphaMode` MASK (with `alphaCutoff`, default 0.5) and BLEND: coverage
 //! α = `baseColorFactor.a` × the base colour texture's alpha (linear), as
@@ -33,9 +38,8 @@
 //! COLOR_0's alpha is not read (the loader drops it).
 //!
 //! Still ignored, with ONE warning per material listing it:
-//! `occlusionTexture` on another TEXCOORD set,
-//! `transmissionTexture`, `specularTexture`, `specularColorTexture`, other
-//! TEXCOORD sets and other extensions (`KHR_texture_transform` is applied);
+//! `transmissionTexture`, `specularTexture`, `specularColorTexture`,
+//! TEXCOORD sets past 1 (set 0 read instead) and other extensions;
 //! factors outside
 //! [0, 1] are clamped (noted).
 
@@ -65,33 +69,53 @@ const READ_MATERIAL_EXTENSIONS: &[&str] = &[
     "KHR_materials_transmission",
 ];
 
-/// The `KHR_texture_transform` of a textureInfo (identity without one):
-/// `uv' = T(offset) · R(rotation) · S(scale) · uv`, with R the matrix of
-/// columns (cos r, −sin r) and (sin r, cos r): `u' = u cos r + v sin r`,
-/// `v' = −u sin r + v cos r`. (Read as column-major GLSL, the extension's
-/// own listing gives the transpose; Khronos' TextureTransformTest, whose red
-/// marker shows a rotation the wrong way.) A TEXCOORD set other than 0
-/// (`tex_coord`, or the extension's `texCoord` override), other extensions
-/// on the textureInfo and malformed values are noted (and ignored).
-fn texture_transform(
+/// How a textureInfo maps a surface point to its texture: the UV set it
+/// reads and its `KHR_texture_transform`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct UvMapping {
+    /// 0 (`TEXCOORD_0`) or 1 (`TEXCOORD_1`).
+    pub set: usize,
+    pub transform: Affine2,
+}
+
+/// The UV set and `KHR_texture_transform` of a textureInfo (identity
+/// without one): `uv' = T(offset) · R(rotation) · S(scale) · uv`, with R the
+/// matrix of columns (cos r, −sin r) and (sin r, cos r): `u' = u cos r +
+/// v sin r`, `v' = −u sin r + v cos r`. (Read as column-major GLSL, the
+/// extension's own listing gives the transpose; Khronos'
+/// TextureTransformTest, whose red marker shows a rotation the wrong way.)
+/// The set is `tex_coord`, or the extension's `texCoord` override when it
+/// has one (the extension says the override wins). Sets past 1, other
+/// extensions on the textureInfo and malformed values are noted (set 0 and
+/// identity used).
+fn uv_mapping(
     info: &::gltf::json::Value,
     tex_coord: u32,
     what: &str,
     notes: &mut Vec<String>,
-) -> Affine2 {
-    if tex_coord != 0 {
-        notes.push(format!(
-            "{what} uses TEXCOORD_{tex_coord} (TEXCOORD_0 used)"
-        ));
-    }
+) -> UvMapping {
+    let set = |asked: u64, notes: &mut Vec<String>| -> usize {
+        if asked > 1 {
+            notes.push(format!(
+                "{what} uses TEXCOORD_{asked} (only TEXCOORD_0 and TEXCOORD_1 are read; TEXCOORD_0 used)"
+            ));
+            0
+        } else {
+            asked as usize
+        }
+    };
+    let mut mapping = UvMapping {
+        set: set(tex_coord.into(), notes),
+        transform: Affine2::IDENTITY,
+    };
     let Some(exts) = info["extensions"].as_object() else {
-        return Affine2::IDENTITY;
+        return mapping;
     };
     for key in exts.keys().filter(|k| *k != "KHR_texture_transform") {
         notes.push(format!("{key} on {what} ignored"));
     }
     let Some(t) = exts.get("KHR_texture_transform") else {
-        return Affine2::IDENTITY;
+        return mapping;
     };
     let pair = |key: &str, default: [f32; 2]| -> Option<Vec2> {
         match &t[key] {
@@ -114,17 +138,16 @@ fn texture_transform(
         rotation,
     ) else {
         notes.push(format!("malformed KHR_texture_transform on {what} ignored"));
-        return Affine2::IDENTITY;
+        return mapping;
     };
-    if t["texCoord"].as_u64().is_some_and(|c| c != 0) {
-        notes.push(format!(
-            "KHR_texture_transform on {what} asks for TEXCOORD_{} (TEXCOORD_0 used)",
-            t["texCoord"]
-        ));
+    if let Some(asked) = t["texCoord"].as_u64() {
+        mapping.set = set(asked, notes);
     }
     let (sin, cos) = rotation.sin_cos();
     let r = glam::Mat2::from_cols(Vec2::new(cos, -sin), Vec2::new(sin, cos));
-    Affine2::from_mat2_translation(r * glam::Mat2::from_diagonal(scale), offset)
+    mapping.transform =
+        Affine2::from_mat2_translation(r * glam::Mat2::from_diagonal(scale), offset);
+    mapping
 }
 
 impl Loader<'_> {
@@ -248,9 +271,8 @@ impl Loader<'_> {
         let emission_texture = match &m.emissive_texture {
             Some(info) if emission.max_element() > 0.0 => {
                 let info_json = &raw["emissiveTexture"];
-                let transform =
-                    texture_transform(info_json, info.tex_coord, "emissiveTexture", &mut notes);
-                Some(self.texture(info.index.value(), transform, &mut notes)?)
+                let mapping = uv_mapping(info_json, info.tex_coord, "emissiveTexture", &mut notes);
+                Some(self.texture(info.index.value(), mapping, &mut notes)?)
             }
             _ => None,
         };
@@ -262,15 +284,14 @@ impl Loader<'_> {
             }
         }
 
-        // The base colour texture and its transform (shared with alpha).
+        // The base colour texture and its UV mapping (shared with alpha).
         let base_texture = pbr.base_color_texture.as_ref().map(|info| {
             let info_json = &raw["pbrMetallicRoughness"]["baseColorTexture"];
-            let transform =
-                texture_transform(info_json, info.tex_coord, "baseColorTexture", &mut notes);
-            (info.index.value(), transform)
+            let mapping = uv_mapping(info_json, info.tex_coord, "baseColorTexture", &mut notes);
+            (info.index.value(), mapping)
         });
         let albedo_texture = match base_texture {
-            Some((t, transform)) => Some(self.texture(t, transform, &mut notes)?),
+            Some((t, mapping)) => Some(self.texture(t, mapping, &mut notes)?),
             None => None,
         };
 
@@ -294,7 +315,7 @@ impl Loader<'_> {
         let alpha = match alpha_mode {
             Some(mode) => {
                 let texture = match base_texture {
-                    Some((t, transform)) => self.alpha_texture(t, transform, &mut notes)?,
+                    Some((t, mapping)) => self.alpha_texture(t, mapping, &mut notes)?,
                     None => None,
                 };
                 let coverage = AlphaCoverage {
@@ -318,23 +339,22 @@ impl Loader<'_> {
         let metallic_roughness_texture = match &pbr.metallic_roughness_texture {
             Some(info) if !lambertian => {
                 let info_json = &raw["pbrMetallicRoughness"]["metallicRoughnessTexture"];
-                let transform = texture_transform(
+                let mapping = uv_mapping(
                     info_json,
                     info.tex_coord,
                     "metallicRoughnessTexture",
                     &mut notes,
                 );
-                Some(self.data_texture(info.index.value(), transform, &mut notes)?)
+                Some(self.data_texture(info.index.value(), mapping, &mut notes)?)
             }
             _ => None,
         };
 
-        // normalTexture (linear data, on the mesh's TEXCOORD_0 tangent frame).
+        // normalTexture (linear data, in the tangent frame of its UV set).
         let normal_map = match &m.normal_texture {
             Some(info) => {
                 let info_json = &raw["normalTexture"];
-                let transform =
-                    texture_transform(info_json, info.tex_coord, "normalTexture", &mut notes);
+                let mapping = uv_mapping(info_json, info.tex_coord, "normalTexture", &mut notes);
                 let scale = info.scale;
                 if !scale.is_finite() {
                     return Err(SceneError::at_path(
@@ -344,18 +364,17 @@ impl Loader<'_> {
                     ));
                 }
                 Some(NormalMap {
-                    texture: self.data_texture(info.index.value(), transform, &mut notes)?,
+                    texture: self.data_texture(info.index.value(), mapping, &mut notes)?,
                     scale,
                 })
             }
             None => None,
         };
-        // occlusionTexture (linear data, R): only on TEXCOORD_0 (the
-        // common TEXCOORD_1 light-map layout is not read yet).
+        // occlusionTexture (linear data, R).
         let occlusion_map = match &m.occlusion_texture {
-            Some(info) if info.tex_coord == 0 => {
+            Some(info) => {
                 let info_json = &raw["occlusionTexture"];
-                let transform = texture_transform(info_json, 0, "occlusionTexture", &mut notes);
+                let mapping = uv_mapping(info_json, info.tex_coord, "occlusionTexture", &mut notes);
                 let strength = info.strength.0;
                 if !strength.is_finite() {
                     return Err(SceneError::at_path(
@@ -365,16 +384,9 @@ impl Loader<'_> {
                     ));
                 }
                 Some(OcclusionMap {
-                    texture: self.data_texture(info.index.value(), transform, &mut notes)?,
+                    texture: self.data_texture(info.index.value(), mapping, &mut notes)?,
                     strength: strength.clamp(0.0, 1.0),
                 })
-            }
-            Some(info) => {
-                notes.push(format!(
-                    "occlusionTexture on TEXCOORD_{} ignored (only TEXCOORD_0 is read)",
-                    info.tex_coord
-                ));
-                None
             }
             None => None,
         };
@@ -443,10 +455,14 @@ impl Loader<'_> {
     fn texture(
         &mut self,
         t: usize,
-        transform: Affine2,
+        mapping: UvMapping,
         notes: &mut Vec<String>,
     ) -> Result<TextureId, SceneError> {
-        let key = (t, transform.to_cols_array().map(f32::to_bits));
+        let key = (
+            t,
+            mapping.set,
+            mapping.transform.to_cols_array().map(f32::to_bits),
+        );
         if let Some(&id) = self.textures.get(&key) {
             self.sampler_wrap(t, notes)?;
             return Ok(id);
@@ -457,7 +473,8 @@ impl Loader<'_> {
             SceneError::at_path(self.file, ipath, format!("cannot decode image: {e}"))
         })?;
         texture.wrap = wrap;
-        texture.uv_transform = transform;
+        texture.uv_transform = mapping.transform;
+        texture.uv_set = mapping.set;
         self.scene.textures.push(texture);
         let id = self.scene.textures.len() - 1;
         self.textures.insert(key, id);
@@ -469,10 +486,10 @@ impl Loader<'_> {
     fn data_texture(
         &mut self,
         t: usize,
-        transform: Affine2,
+        mapping: UvMapping,
         notes: &mut Vec<String>,
     ) -> Result<TextureId, SceneError> {
-        let id = self.linear_texture(t, transform, notes, |p| Rgb::new(p[0], p[1], p[2]), false)?;
+        let id = self.linear_texture(t, mapping, notes, |p| Rgb::new(p[0], p[1], p[2]), false)?;
         // `linear_texture` gives `None` only when asked for alpha.
         id.ok_or_else(|| {
             SceneError::at_path(
@@ -488,10 +505,10 @@ impl Loader<'_> {
     fn alpha_texture(
         &mut self,
         t: usize,
-        transform: Affine2,
+        mapping: UvMapping,
         notes: &mut Vec<String>,
     ) -> Result<Option<TextureId>, SceneError> {
-        self.linear_texture(t, transform, notes, |p| Rgb::splat(p[3]), true)
+        self.linear_texture(t, mapping, notes, |p| Rgb::splat(p[3]), true)
     }
 
     /// A scene texture of `pick(texel)` over glTF `textures[t]`'s image,
@@ -500,7 +517,7 @@ impl Loader<'_> {
     fn linear_texture(
         &mut self,
         t: usize,
-        transform: Affine2,
+        mapping: UvMapping,
         notes: &mut Vec<String>,
         pick: impl Fn(&image::Rgba<f32>) -> Rgb,
         needs_alpha: bool,
@@ -520,7 +537,8 @@ impl Loader<'_> {
             height: rgba.height(),
             texels: rgba.pixels().map(pick).collect(),
             wrap,
-            uv_transform: transform,
+            uv_transform: mapping.transform,
+            uv_set: mapping.set,
         };
         self.scene.textures.push(texture);
         Ok(Some(self.scene.textures.len() - 1))
@@ -619,8 +637,10 @@ mod tests {
         )
         .unwrap();
         let mut notes = Vec::new();
-        let t = texture_transform(&json, 0, "baseColorTexture", &mut notes);
+        let m = uv_mapping(&json, 0, "baseColorTexture", &mut notes);
         assert!(notes.is_empty(), "{notes:?}");
+        assert_eq!(m.set, 0);
+        let t = m.transform;
         // (u, v) = (1, 0): scaled (2, 0); rotated by 90° with
         // u' = u cos r + v sin r, v' = −u sin r + v cos r: (0, −2); offset: (0.5, −1.75).
         let p = t.transform_point2(Vec2::new(1.0, 0.0));
@@ -630,18 +650,38 @@ mod tests {
         assert!((q - Vec2::new(3.5, 0.25)).length() < 1e-5, "{q}");
         let plain: ::gltf::json::Value =
             ::gltf::json::deserialize::from_str(r#"{"index": 0}"#).unwrap();
-        assert_eq!(
-            texture_transform(&plain, 0, "x", &mut notes),
-            Affine2::IDENTITY
-        );
+        let identity = |set| UvMapping {
+            set,
+            transform: Affine2::IDENTITY,
+        };
+        assert_eq!(uv_mapping(&plain, 0, "x", &mut notes), identity(0));
+        assert_eq!(uv_mapping(&plain, 1, "x", &mut notes), identity(1));
+        assert!(notes.is_empty(), "{notes:?}");
         let bad: ::gltf::json::Value = ::gltf::json::deserialize::from_str(
             r#"{"extensions": {"KHR_texture_transform": {"scale": [1]}, "EXT_other": {}}}"#,
         )
         .unwrap();
-        assert_eq!(
-            texture_transform(&bad, 0, "x", &mut notes),
-            Affine2::IDENTITY
-        );
+        assert_eq!(uv_mapping(&bad, 0, "x", &mut notes), identity(0));
         assert_eq!(notes.len(), 2, "{notes:?}");
+    }
+
+    /// The extension's `texCoord` overrides the textureInfo's; sets past 1
+    /// are noted and read as set 0.
+    #[test]
+    fn uv_sets_follow_tex_coord_and_its_override() {
+        let json =
+            |s: &str| -> ::gltf::json::Value { ::gltf::json::deserialize::from_str(s).unwrap() };
+        let mut notes = Vec::new();
+        let overridden = json(r#"{"extensions": {"KHR_texture_transform": {"texCoord": 1}}}"#);
+        assert_eq!(uv_mapping(&overridden, 0, "x", &mut notes).set, 1);
+        let back = json(r#"{"extensions": {"KHR_texture_transform": {"texCoord": 0}}}"#);
+        assert_eq!(uv_mapping(&back, 1, "x", &mut notes).set, 0);
+        assert!(notes.is_empty(), "{notes:?}");
+        assert_eq!(
+            uv_mapping(&json("{}"), 2, "occlusionTexture", &mut notes).set,
+            0
+        );
+        assert_eq!(notes.len(), 1, "{notes:?}");
+        assert!(notes[0].contains("TEXCOORD_2"), "{notes:?}");
     }
 }

@@ -51,6 +51,7 @@ fn texture_from_image(img: &DynamicImage, name: String) -> Result<Texture, Strin
         texels,
         wrap: Default::default(),
         uv_transform: glam::Affine2::IDENTITY,
+        uv_set: 0,
     })
 }
 

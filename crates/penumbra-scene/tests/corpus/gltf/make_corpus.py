@@ -314,3 +314,73 @@ doc["extensionsUsed"] = ["EXT_mesh_gpu_instancing"]
 doc["nodes"] = [{"mesh": 0, "translation": [0, 10, 0], "extensions": {"EXT_mesh_gpu_instancing": {
     "attributes": {"TRANSLATION": 2, "ROTATION": 3, "SCALE": 4}}}}]
 write("ok_instancing.gltf", dump(doc))
+
+# TEXCOORD_1: four unit-height quads (x in [-1, 1]) in rows one above the
+# other, facing +z, whose TEXCOORD_0 is mirrored in u and TEXCOORD_1 is not,
+# and a 2x1 RGBA image, black and transparent on the left, white and opaque
+# on the right, clamped at the edges. Every material reads TEXCOORD_1, so
+# each row is dark on the left and bright on the right; a renderer reading
+# TEXCOORD_0 shows them mirrored. Rows from the top: base colour
+# (texCoord 1), emission (texCoord 1), alpha MASK of the base colour's
+# alpha (texCoord 1), base colour with texCoord 0 overridden to 1 by
+# KHR_texture_transform's texCoord. Materials are exact Lambert (ior 1).
+def png_2x1_rgba():
+    """A 2x1 RGBA PNG: (0, 0, 0, 0), (255, 255, 255, 255)."""
+    import zlib
+    raw = b"\0" + bytes([0, 0, 0, 0, 255, 255, 255, 255])
+    def chunk(t, d):
+        return struct.pack(">I", len(d)) + t + d + struct.pack(">I", zlib.crc32(t + d) & 0xFFFFFFFF)
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", 2, 1, 8, 6, 0, 0, 0))
+            + chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b""))
+
+
+pos = f32s([-1, 0, 0, 1, 0, 0, 1, 1, 0, -1, 1, 0])
+nrm = f32s([0, 0, 1] * 4)
+uv1 = f32s([0, 1, 1, 1, 1, 0, 0, 0])
+uv0 = f32s([1, 1, 0, 1, 0, 0, 1, 0])
+idx = pad4(struct.pack("<6H", 0, 1, 2, 0, 2, 3))
+parts = [pos, nrm, uv0, uv1, idx]
+offsets = [sum(len(p) for p in parts[:i]) for i in range(len(parts))]
+ior1 = {"KHR_materials_ior": {"ior": 1.0}}
+lambert = {"metallicFactor": 0}
+doc = {
+    "asset": {"version": "2.0", "generator": "make_corpus.py"},
+    "extensionsUsed": ["KHR_materials_ior", "KHR_texture_transform"],
+    "scene": 0,
+    "scenes": [{"nodes": [0, 1, 2, 3]}],
+    "nodes": [{"mesh": m, "translation": [0, -1.25 * m, 0]} for m in range(4)],
+    "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2,
+                                               "TEXCOORD_1": 3},
+                                "indices": 4, "material": m}]} for m in range(4)],
+    "materials": [
+        {"name": "base colour on 1",
+         "pbrMetallicRoughness": dict(lambert, baseColorTexture={"index": 0, "texCoord": 1}),
+         "extensions": ior1},
+        {"name": "emission on 1",
+         "pbrMetallicRoughness": dict(lambert, baseColorFactor=[0, 0, 0, 1]),
+         "emissiveFactor": [1, 1, 1], "emissiveTexture": {"index": 0, "texCoord": 1},
+         "extensions": ior1},
+        {"name": "mask on 1", "alphaMode": "MASK",
+         "pbrMetallicRoughness": dict(lambert, baseColorTexture={"index": 0, "texCoord": 1}),
+         "extensions": ior1},
+        {"name": "override to 1",
+         "pbrMetallicRoughness": dict(lambert, baseColorTexture={
+             "index": 0, "texCoord": 0,
+             "extensions": {"KHR_texture_transform": {"texCoord": 1}}}),
+         "extensions": ior1},
+    ],
+    "samplers": [{"wrapS": 33071, "wrapT": 33071}],
+    "textures": [{"source": 0, "sampler": 0}],
+    "images": [{"uri": "data:image/png;base64," + base64.b64encode(png_2x1_rgba()).decode()}],
+    "buffers": [{"uri": data_uri(b"".join(parts)), "byteLength": sum(len(p) for p in parts)}],
+    "bufferViews": [{"buffer": 0, "byteOffset": o, "byteLength": len(p)} for o, p in zip(offsets, parts)],
+    "accessors": [
+        {"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3",
+         "min": [-1, 0, 0], "max": [1, 1, 0]},
+        {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC3"},
+        {"bufferView": 2, "componentType": 5126, "count": 4, "type": "VEC2"},
+        {"bufferView": 3, "componentType": 5126, "count": 4, "type": "VEC2"},
+        {"bufferView": 4, "componentType": 5123, "count": 6, "type": "SCALAR"},
+    ],
+}
+write("ok_texcoord1.gltf", dump(doc))
