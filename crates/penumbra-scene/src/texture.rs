@@ -92,17 +92,22 @@ impl Texture {
 mod tests {
     use super::*;
 
-    #[test]
-    fn bilinear_and_wrap() {
-        let t = Texture {
+    /// Two texels, black then white, along u.
+    fn black_white(wrap: [Wrap; 2], uv_set: usize) -> Texture {
+        Texture {
             name: "t".into(),
             width: 2,
             height: 1,
             texels: vec![Rgb::ZERO, Rgb::ONE],
-            wrap: [Wrap::Repeat; 2],
+            wrap,
             uv_transform: Affine2::IDENTITY,
-            uv_set: 0,
-        };
+            uv_set,
+        }
+    }
+
+    #[test]
+    fn bilinear_and_wrap() {
+        let t = black_white([Wrap::Repeat; 2], 0);
         assert!((t.sample(Vec2::new(0.25, 0.5)) - Rgb::ZERO).length() < 1e-6);
         assert!((t.sample(Vec2::new(0.5, 0.5)) - Rgb::splat(0.5)).length() < 1e-6);
         assert!((t.sample(Vec2::new(1.25, 0.5)) - Rgb::ZERO).length() < 1e-6);
@@ -118,15 +123,7 @@ mod tests {
             along(Wrap::MirroredRepeat),
             [2, 2, 1, 0, 0, 1, 2, 2, 1, 0, 0]
         );
-        let t = Texture {
-            name: "t".into(),
-            width: 2,
-            height: 1,
-            texels: vec![Rgb::ZERO, Rgb::ONE],
-            wrap: [Wrap::ClampToEdge, Wrap::Repeat],
-            uv_transform: Affine2::IDENTITY,
-            uv_set: 0,
-        };
+        let t = black_white([Wrap::ClampToEdge, Wrap::Repeat], 0);
         // Past the right edge, clamped: the last texel, not the first.
         assert!((t.sample(Vec2::new(1.25, 0.5)) - Rgb::ONE).length() < 1e-6);
         let m = Texture {
@@ -139,15 +136,7 @@ mod tests {
 
     #[test]
     fn lookup_reads_the_texture_uv_set() {
-        let t = Texture {
-            name: "t".into(),
-            width: 2,
-            height: 1,
-            texels: vec![Rgb::ZERO, Rgb::ONE],
-            wrap: [Wrap::ClampToEdge; 2],
-            uv_transform: Affine2::IDENTITY,
-            uv_set: 1,
-        };
+        let t = black_white([Wrap::ClampToEdge; 2], 1);
         let uvs = [Vec2::new(0.0, 0.5), Vec2::new(1.0, 0.5)];
         assert_eq!(t.lookup(uvs), Rgb::ONE);
         assert_eq!(Texture { uv_set: 0, ..t }.lookup(uvs), Rgb::ZERO);
