@@ -66,6 +66,12 @@ pub struct BsdfSample {
     pub pdf: f32,
     /// The direction came from a delta (ideally specular) lobe.
     pub delta: bool,
+    /// Relative index of refraction η crossed when `wi` is transmitted
+    /// (1 for reflection). Transmitted radiance is scaled by 1/η² (Veach
+    /// 1997, §5.2), which `weight` includes; a path tracer multiplies
+    /// the η² back before Russian roulette so that paths inside glass are
+    /// not ended for a factor that leaving the glass undoes.
+    pub eta: f32,
 }
 
 /// What kinds of lobes a BSDF has.

@@ -165,6 +165,7 @@ fn chi_square_visible_normals() {
                     weight: Rgb::ONE,
                     pdf: 1.0,
                     delta: false,
+                    eta: 1.0,
                 })
             },
             |m| ggx.pdf_visible(wo, m),

@@ -76,6 +76,7 @@ impl Conductor {
             weight: self.reflectance(wo.z),
             pdf: 1.0,
             delta: true,
+            eta: 1.0,
         })
     }
 

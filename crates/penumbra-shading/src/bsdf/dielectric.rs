@@ -119,12 +119,14 @@ impl Dielectric {
                 weight: self.tint / (self.eta * self.eta),
                 pdf: 1.0 - l.f,
                 delta: true,
+                eta: self.eta,
             }),
             _ => Some(BsdfSample {
                 wi: l.reflected,
                 weight: Rgb::ONE,
                 pdf: l.f,
                 delta: true,
+                eta: 1.0,
             }),
         }
     }

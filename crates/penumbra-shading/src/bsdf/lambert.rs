@@ -70,6 +70,7 @@ impl Lambert {
             weight: self.albedo,
             pdf,
             delta: false,
+            eta: 1.0,
         })
     }
 

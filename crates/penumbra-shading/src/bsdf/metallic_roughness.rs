@@ -313,6 +313,7 @@ impl MetallicRoughness {
                     weight: self.f_reflect(c) / p,
                     pdf: p,
                     delta: true,
+                    eta: 1.0,
                 })
             } else {
                 self.non_delta_sample(wo, wi)
@@ -329,6 +330,7 @@ impl MetallicRoughness {
                     weight: self.f_transmit(c) / (self.ior * self.ior * p),
                     pdf: p,
                     delta: true,
+                    eta: self.ior,
                 })
             } else {
                 self.non_delta_sample(wo, wi)
@@ -347,6 +349,7 @@ impl MetallicRoughness {
             weight: self.eval(wo, wi) * (wi.z.abs() / pdf),
             pdf,
             delta: false,
+            eta: if wi.z < 0.0 { self.ior } else { 1.0 },
         })
     }
 

@@ -49,6 +49,7 @@ impl Mirror {
             weight: self.reflectance,
             pdf: 1.0,
             delta: true,
+            eta: 1.0,
         })
     }
 

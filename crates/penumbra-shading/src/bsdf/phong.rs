@@ -216,6 +216,7 @@ impl PhongBlinn {
             weight: self.eval(wo, wi) * (wi.z / pdf),
             pdf,
             delta: false,
+            eta: 1.0,
         })
     }
 

@@ -102,6 +102,7 @@ impl RoughConductor {
             weight,
             pdf,
             delta: false,
+            eta: 1.0,
         })
     }
 

@@ -123,13 +123,13 @@ impl RoughDielectric {
         }
         let f = fresnel_dielectric(c, self.eta);
         let d_vis = ggx.pdf_visible(wo, m);
-        let (wi, pdf, weight) = if u_lobe < f {
+        let (wi, pdf, weight, eta) = if u_lobe < f {
             let wi = reflect(wo, m);
             if wi.z <= 0.0 {
                 return None;
             }
             let w = ggx.g2(wo, wi) / ggx.g1(wo);
-            (wi, d_vis * f / (4.0 * c), Rgb::splat(w))
+            (wi, d_vis * f / (4.0 * c), Rgb::splat(w), 1.0)
         } else {
             let wi = refract(wo, m, self.eta)?.normalize();
             if wi.z >= 0.0 {
@@ -137,7 +137,7 @@ impl RoughDielectric {
             }
             let pdf = d_vis * (1.0 - f) * transmission_jacobian(wo, wi, m, self.eta);
             let w = ggx.g2(wo, wi) / (ggx.g1(wo) * self.eta * self.eta);
-            (wi, pdf, self.tint * w)
+            (wi, pdf, self.tint * w, self.eta)
         };
         if !(pdf > 0.0 && pdf.is_finite()) {
             return None;
@@ -147,6 +147,7 @@ impl RoughDielectric {
             weight,
             pdf,
             delta: false,
+            eta,
         })
     }
 

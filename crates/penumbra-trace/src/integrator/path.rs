@@ -22,6 +22,16 @@ use penumbra_shading::sampling::{Sampler, power_heuristic};
 /// Segments after which Russian roulette may end a path.
 const RR_START_DEPTH: u32 = 4;
 
+/// Russian roulette's survival probability for a path of throughput
+/// `beta` that has crossed refractions with η² product `eta_scale`: the
+/// throughput with the 1/η² radiance scaling undone (pbrt-v4 and Mitsuba
+/// do the same), capped at 0.95. A path inside glass (β = 1/η² ≈ 0.44)
+/// is not ended more often than the same path outside it.
+#[inline]
+fn rr_survival(beta: Rgb, eta_scale: f32) -> f32 {
+    (beta.max_element() * eta_scale).min(0.95)
+}
+
 /// Receives the emitted radiance a path collects.
 pub trait RadianceSink {
     /// `value` (throughput and MIS weight applied) was emitted by `emitter`
@@ -45,6 +55,10 @@ pub(crate) struct PathState {
     pub ray: Ray,
     /// Throughput of the path up to the ray's origin.
     pub beta: Rgb,
+    /// Product of η² over the refractions so far: `beta · eta_scale` is
+    /// the throughput without the 1/η² radiance scaling, which Russian
+    /// roulette looks at.
+    pub eta_scale: f32,
     /// Solid-angle pdf of the BSDF sample that made `ray` (None = camera
     /// ray, or after a delta lobe: emitter hits get MIS weight 1).
     pub prev_bsdf_pdf: Option<f32>,
@@ -67,6 +81,7 @@ pub fn li(
     let start = PathState {
         ray: *camera_ray,
         beta: Rgb::ONE,
+        eta_scale: 1.0,
         prev_bsdf_pdf: None,
         prev_point: camera_ray.origin,
         depth: 1,
@@ -146,7 +161,7 @@ pub(crate) fn walk<S: RadianceSink>(
             return;
         }
         next_event(ctx, &s, sampler, st.beta, st.depth, sink);
-        match scatter(ctx, &s, sampler, st.beta, st.depth) {
+        match scatter(ctx, &s, sampler, st.beta, st.eta_scale, st.depth) {
             Some(next) => st = next,
             None => return,
         }
@@ -198,13 +213,15 @@ pub(crate) fn next_event<S: RadianceSink>(
 }
 
 /// BSDF sampling at `s`, the end of segment `depth` of a path of throughput
-/// `beta`: the next segment, or `None` when the path ends (no sample, a
-/// direction on the wrong side, Russian roulette).
+/// `beta` (and η² product `eta_scale`): the next segment, or `None` when
+/// the path ends (no sample, a direction on the wrong side, Russian
+/// roulette).
 pub(crate) fn scatter(
     ctx: &TraceContext,
     s: &Shading,
     sampler: &mut Sampler,
     beta: Rgb,
+    eta_scale: f32,
     depth: u32,
 ) -> Option<PathState> {
     let bs = s
@@ -215,9 +232,10 @@ pub(crate) fn scatter(
         return None;
     }
     let mut beta = beta * bs.weight;
+    let eta_scale = eta_scale * bs.eta * bs.eta;
     let depth = depth + 1;
     if depth > RR_START_DEPTH {
-        let q = beta.max_element().min(0.95);
+        let q = rr_survival(beta, eta_scale);
         if sampler.next_1d() >= q {
             return None;
         }
@@ -226,6 +244,7 @@ pub(crate) fn scatter(
     Some(PathState {
         ray: ctx.spawn(s, wi, f32::INFINITY),
         beta,
+        eta_scale,
         // After a delta lobe the emitter hit gets weight 1: NEE cannot
         // sample that direction.
         prev_bsdf_pdf: (!bs.delta).then_some(bs.pdf),

@@ -62,7 +62,7 @@ impl TraceContext<'_> {
         let max_depth = bounces.saturating_add(2);
         let beta = Rgb::ONE;
         next_event(self, &s, sampler, beta, 1, sink);
-        if let Some(next) = scatter(self, &s, sampler, beta, 1) {
+        if let Some(next) = scatter(self, &s, sampler, beta, 1.0, 1) {
             walk(
                 self,
                 next,
