@@ -1,18 +1,24 @@
-//! Acceleration structure: a compressed wide BVH (CWBVH, 8-wide; Ylitie et
-//! al. 2017) built by `obvhs` with PLOC + reinsertion, over world-space
-//! triangles, traversed with our watertight triangle test.
+//! Acceleration structure: an 8-wide BVH of uncompressed fp32 nodes
+//! (`wide.rs`), collapsed from a binary BVH that `obvhs` builds with PLOC +
+//! reinsertion, over world-space triangles; traversed one ray at a time with
+//! 8-lane box tests (`traverse.rs`, AVX2 where the CPU has it) and our
+//! watertight triangle test.
 
+mod traverse;
 mod watertight;
+mod wide;
 
+pub use traverse::Kernel;
 pub use watertight::{TriangleHit, WatertightRay};
 
 use crate::ray::Ray;
 use glam::{Vec3, Vec3A};
 use obvhs::BvhBuildParams;
 use obvhs::aabb::Aabb;
-use obvhs::cwbvh::CwBvh;
 use obvhs::triangle::Triangle;
 use std::time::Duration;
+use traverse::BoxRay;
+use wide::{LEAF_BIT, LEAF_MAX, Wide, leaf_range};
 
 /// Relative padding of primitive boxes (≈ 32 ulps of the largest coordinate).
 const BOX_PAD_RELATIVE: f32 = 4.0e-6;
@@ -30,10 +36,13 @@ pub struct Hit {
 /// BVH over a triangle soup.
 #[derive(Debug)]
 pub struct Accel {
-    bvh: CwBvh,
-    /// Triangles in BVH leaf order (`bvh.primitive_indices` order).
+    wide: Wide,
+    /// Triangles in leaf order.
     ordered: Vec<[Vec3A; 3]>,
+    /// Input index of each leaf-order triangle.
+    primitive_indices: Vec<u32>,
     triangle_count: usize,
+    kernel: Kernel,
 }
 
 /// BVH build quality preset.
@@ -47,57 +56,81 @@ pub enum BuildQuality {
 impl Accel {
     /// Builds over `triangles` (world space). An empty list gives an
     /// accelerator that misses every ray.
+    ///
+    /// # Panics
+    /// With more than 2²⁸ − 1 triangles (the leaf code's range).
     pub fn build(triangles: &[[Vec3; 3]], quality: BuildQuality) -> Self {
+        assert!(
+            triangles.len() <= wide::MAX_TRIANGLES,
+            "{} triangles: the BVH holds at most {}",
+            triangles.len(),
+            wide::MAX_TRIANGLES
+        );
+        let kernel = Kernel::best();
         if triangles.is_empty() {
             return Self {
-                bvh: CwBvh::default(),
+                wide: Wide::default(),
                 ordered: Vec::new(),
+                primitive_indices: Vec::new(),
                 triangle_count: 0,
+                kernel,
             };
         }
-        let tris: Vec<Triangle> = triangles
-            .iter()
-            .map(|t| Triangle {
-                v0: t[0].into(),
-                v1: t[1].into(),
-                v2: t[2].into(),
-            })
-            .collect();
-        let params = match quality {
+        let mut params = match quality {
             BuildQuality::Fast => BvhBuildParams::fast_build(),
             BuildQuality::Medium => BvhBuildParams::medium_build(),
         };
+        params.max_prims_per_leaf = LEAF_MAX;
         // Boxes padded by a few ulps of their coordinates make the float slab
         // test conservative (cf. Ize 2013, "Robust BVH Ray Traversal"): a ray
         // through a vertex on a box corner must not skip the box, or the
         // watertight triangle test cannot do its job.
-        let boxes: Vec<Aabb> = tris
+        let boxes: Vec<Aabb> = triangles
             .iter()
             .map(|t| {
-                let b = t.aabb();
+                let b = Triangle {
+                    v0: t[0].into(),
+                    v1: t[1].into(),
+                    v2: t[2].into(),
+                }
+                .aabb();
                 let pad = b.min.abs().max(b.max.abs()).max_element() * BOX_PAD_RELATIVE
                     + f32::MIN_POSITIVE;
                 Aabb::new(b.min - pad, b.max + pad)
             })
             .collect();
-        let bvh = obvhs::cwbvh::builder::build_cwbvh(&boxes, params, &mut Duration::default());
-        let ordered = bvh
+        let bvh2 = obvhs::bvh2::builder::build_bvh2(&boxes, params, &mut Duration::default());
+        let wide = Wide::collapse(&bvh2);
+        let ordered = bvh2
             .primitive_indices
             .iter()
-            .map(|&i| {
-                let t = &tris[i as usize];
-                [t.v0, t.v1, t.v2]
-            })
+            .map(|&i| triangles[i as usize].map(Vec3A::from))
             .collect();
         Self {
-            bvh,
+            wide,
             ordered,
+            primitive_indices: bvh2.primitive_indices,
             triangle_count: triangles.len(),
+            kernel,
         }
     }
 
     pub fn triangle_count(&self) -> usize {
         self.triangle_count
+    }
+
+    /// The traversal kernel in use (the fastest the CPU runs, unless set).
+    pub fn kernel(&self) -> Kernel {
+        self.kernel
+    }
+
+    /// Chooses the traversal kernel; an error if this CPU cannot run it.
+    pub fn set_kernel(&mut self, kernel: Kernel) -> Result<(), String> {
+        if !kernel.is_supported() {
+            return Err(format!("this CPU cannot run the {kernel:?} kernel"));
+        }
+        self.kernel = kernel;
+        Ok(())
     }
 
     /// Closest hit along `ray` in (0, ray.tmax).
@@ -115,20 +148,19 @@ impl Accel {
             return None;
         }
         let wt = WatertightRay::new(ray.origin, ray.direction);
-        let r = bvh_ray(ray);
-        let mut hit = obvhs::ray::RayHit::none();
-        let found = self.bvh.ray_traverse(r, &mut hit, |r, id| {
-            self.leaf_hit(&wt, id, r.tmax, &keep)
-                .map_or(f32::INFINITY, |h| h.t)
-        });
-        if !found {
-            return None;
-        }
-        let id = hit.primitive_id as usize;
-        let [a, b, c] = self.ordered[id];
-        let h = wt.intersect_a(a, b, c, f32::INFINITY)?;
+        let br = BoxRay::new(ray.origin, ray.direction);
+        let keep = |i: usize, b1, b2| keep(self.primitive_indices[i], b1, b2);
+        let (i, h) = traverse::closest_hit(
+            self.kernel,
+            &self.wide,
+            &self.ordered,
+            &br,
+            &wt,
+            ray.tmax,
+            &keep,
+        )?;
         Some(Hit {
-            triangle: self.bvh.primitive_indices[id],
+            triangle: self.primitive_indices[i],
             t: h.t,
             b1: h.b1,
             b2: h.b2,
@@ -149,37 +181,30 @@ impl Accel {
             return false;
         }
         let wt = WatertightRay::new(ray.origin, ray.direction);
-        let r = bvh_ray(ray);
-        !self.bvh.ray_traverse_miss(r, |r, id| {
-            self.leaf_hit(&wt, id, r.tmax, &keep)
-                .map_or(f32::INFINITY, |h| h.t)
-        })
+        let br = BoxRay::new(ray.origin, ray.direction);
+        let keep = |i: usize, b1, b2| keep(self.primitive_indices[i], b1, b2);
+        traverse::any_hit(
+            self.kernel,
+            &self.wide,
+            &self.ordered,
+            &br,
+            &wt,
+            ray.tmax,
+            &keep,
+        )
     }
 
-    /// The hit of the triangle in leaf slot `id` before `tmax`, if `keep`
-    /// accepts it.
-    #[inline(always)]
-    fn leaf_hit(
-        &self,
-        wt: &WatertightRay,
-        id: usize,
-        tmax: f32,
-        keep: &impl Fn(u32, f32, f32) -> bool,
-    ) -> Option<TriangleHit> {
-        let [a, b, c] = self.ordered[id];
-        wt.intersect_a(a, b, c, tmax)
-            .filter(|h| keep(self.bvh.primitive_indices[id], h.b1, h.b2))
-    }
-
-    /// Checks the BVH structure: every triangle is reachable from the root
-    /// and every node's bounds contain its children. Returns a description of
+    /// Checks the BVH structure: every triangle is in exactly one leaf of
+    /// at most `LEAF_MAX` triangles, every node is reached once, each box
+    /// holds its children's boxes and its triangles, and no path is longer
+    /// than the recorded depth (the stack bound). Returns a description of
     /// the first problem.
     pub fn validate(&self) -> Result<(), String> {
         if self.ordered.is_empty() {
             return Ok(());
         }
         let mut seen = vec![false; self.triangle_count];
-        for &i in &self.bvh.primitive_indices {
+        for &i in &self.primitive_indices {
             match seen.get_mut(i as usize) {
                 Some(s) => *s = true,
                 None => return Err(format!("primitive index {i} out of range")),
@@ -188,35 +213,58 @@ impl Accel {
         if let Some(missing) = seen.iter().position(|s| !s) {
             return Err(format!("triangle {missing} is not in the BVH"));
         }
-        let tris: Vec<Triangle> = self
-            .ordered
-            .iter()
-            .map(|t| Triangle {
-                v0: t[0],
-                v1: t[1],
-                v2: t[2],
-            })
-            .collect();
-        let result = self.bvh.validate(&tris, true);
-        if result.prim_count < self.triangle_count {
-            return Err(format!(
-                "traversal reaches {} of {} triangles",
-                result.prim_count, self.triangle_count
-            ));
+        let inside = |p: [f32; 3], lo: [f32; 3], hi: [f32; 3]| {
+            (0..3).all(|a| lo[a] <= p[a] && p[a] <= hi[a])
+        };
+        let mut in_leaf = vec![false; self.ordered.len()];
+        let mut node_seen = vec![false; self.wide.nodes.len()];
+        let everything = ([f32::NEG_INFINITY; 3], [f32::INFINITY; 3]);
+        let mut todo = vec![(0u32, everything, 1usize)];
+        while let Some((n, (plo, phi), depth)) = todo.pop() {
+            if depth > self.wide.depth {
+                return Err(format!(
+                    "node {n} lies deeper than the recorded depth {}",
+                    self.wide.depth
+                ));
+            }
+            match node_seen.get_mut(n as usize) {
+                Some(s) if !*s => *s = true,
+                Some(_) => return Err(format!("node {n} is reached twice")),
+                None => return Err(format!("node index {n} out of range")),
+            }
+            let node = &self.wide.nodes[n as usize];
+            for slot in (0..wide::WIDTH).filter(|&s| node.used(s)) {
+                let (lo, hi) = node.slot_box(slot);
+                if !inside(lo, plo, phi) || !inside(hi, plo, phi) {
+                    return Err(format!("node {n} slot {slot}: box outside its parent's"));
+                }
+                let code = node.child[slot];
+                if code & LEAF_BIT == 0 {
+                    todo.push((code, (lo, hi), depth + 1));
+                    continue;
+                }
+                let range = leaf_range(code);
+                if range.is_empty()
+                    || range.len() > LEAF_MAX as usize
+                    || range.end > self.ordered.len()
+                {
+                    return Err(format!("node {n} slot {slot}: bad leaf {range:?}"));
+                }
+                for i in range {
+                    if std::mem::replace(&mut in_leaf[i], true) {
+                        return Err(format!("triangle slot {i} is in two leaves"));
+                    }
+                    if !self.ordered[i].iter().all(|v| inside(v.to_array(), lo, hi)) {
+                        return Err(format!("triangle slot {i} lies outside its leaf's box"));
+                    }
+                }
+            }
+        }
+        if let Some(i) = in_leaf.iter().position(|s| !s) {
+            return Err(format!("triangle slot {i} is in no leaf"));
         }
         Ok(())
     }
-}
-
-/// The ray as obvhs traverses it. Zero direction components (of either
-/// sign) become a tiny positive value: the slab test multiplies by 1/d, and
-/// 1/(−0) = −∞ times a zero distance gives NaN, which dropped axis-parallel
-/// rays such as −Vec3::Y. The triangle test still uses the exact direction.
-#[inline]
-fn bvh_ray(ray: &Ray) -> obvhs::ray::Ray {
-    let d = ray.direction;
-    let safe = Vec3::select(d.cmpeq(Vec3::ZERO), Vec3::splat(1e-30), d);
-    obvhs::ray::Ray::new(ray.origin.into(), safe.into(), 0.0, ray.tmax)
 }
 
 #[cfg(test)]
@@ -234,34 +282,110 @@ mod tests {
         best
     }
 
-    #[test]
-    fn matches_brute_force_on_random_soup() {
-        let mut s = penumbra_shading::sampling::Sampler::new(0, 0, 0, 1);
+    fn random_soup(count: usize, seed: u32) -> (Vec<[Vec3; 3]>, Vec<Ray>) {
+        let mut s = penumbra_shading::sampling::Sampler::new(0, 0, 0, seed);
         let mut rnd = || {
             let [a, b] = s.next_2d();
             let [c, _] = s.next_2d();
             Vec3::new(a, b, c) * 10.0
         };
-        let tris: Vec<[Vec3; 3]> = (0..2000)
+        let tris: Vec<[Vec3; 3]> = (0..count)
             .map(|_| {
                 let c = rnd();
                 [c, c + rnd() * 0.1, c + rnd() * 0.1]
             })
             .collect();
-        let accel = Accel::build(&tris, BuildQuality::Medium);
-        accel.validate().unwrap();
-        let mut hits = 0;
-        for _ in 0..3000 {
-            let o = rnd() - Vec3::splat(2.0);
-            let d = (rnd() - Vec3::splat(5.0)).normalize();
-            let ray = Ray::new(o, d);
-            let a = accel.intersect(&ray).map(|h| (h.triangle, h.t));
-            let b = brute_force(&tris, &ray);
-            assert_eq!(a.map(|x| x.0), b.map(|x| x.0));
-            assert_eq!(accel.occluded(&ray), b.is_some());
-            hits += b.is_some() as u32;
+        let rays = (0..3000)
+            .map(|_| {
+                let o = rnd() - Vec3::splat(2.0);
+                let d = (rnd() - Vec3::splat(5.0)).normalize();
+                Ray::new(o, d)
+            })
+            .collect();
+        (tris, rays)
+    }
+
+    /// Every kernel finds the brute-force closest hit (same triangle, same
+    /// distance), with and without an any-hit filter, and occlusion agrees.
+    #[test]
+    fn every_kernel_matches_brute_force_on_random_soup() {
+        for quality in [BuildQuality::Fast, BuildQuality::Medium] {
+            let (tris, rays) = random_soup(2000, 1);
+            let mut accel = Accel::build(&tris, quality);
+            accel.validate().unwrap();
+            let odd_rejected = |i: u32, _: f32, _: f32| i.is_multiple_of(2);
+            let even_tris: Vec<[Vec3; 3]> = tris
+                .iter()
+                .enumerate()
+                .map(|(i, t)| if i % 2 == 0 { *t } else { [Vec3::ZERO; 3] })
+                .collect();
+            for kernel in Kernel::available() {
+                accel.set_kernel(kernel).unwrap();
+                let mut hits = 0;
+                for ray in &rays {
+                    let b = brute_force(&tris, ray);
+                    let a = accel.intersect(ray).map(|h| (h.triangle, h.t));
+                    assert_eq!(a, b, "{kernel:?} {quality:?} {ray:?}");
+                    assert_eq!(accel.occluded(ray), b.is_some(), "{kernel:?}");
+                    let b = brute_force(&even_tris, ray);
+                    let a = accel
+                        .intersect_where(ray, odd_rejected)
+                        .map(|h| (h.triangle, h.t));
+                    assert_eq!(a, b, "{kernel:?} {quality:?} filtered {ray:?}");
+                    assert_eq!(accel.occluded_where(ray, odd_rejected), b.is_some());
+                    hits += b.is_some() as u32;
+                }
+                assert!(hits > 100, "test should exercise hits, got {hits}");
+            }
         }
-        assert!(hits > 100, "test should exercise hits, got {hits}");
+    }
+
+    /// Rays with a short tmax see only hits before it.
+    #[test]
+    fn hits_stop_at_tmax() {
+        let (tris, rays) = random_soup(2000, 2);
+        let accel = Accel::build(&tris, BuildQuality::Medium);
+        let mut cut = 0;
+        for ray in &rays {
+            let Some((_, t)) = brute_force(&tris, ray) else {
+                continue;
+            };
+            let short = Ray { tmax: t, ..*ray };
+            let before = brute_force(&tris, &short);
+            assert_eq!(accel.intersect(&short).map(|h| (h.triangle, h.t)), before);
+            assert_eq!(accel.occluded(&short), before.is_some());
+            cut += before.is_none() as u32;
+        }
+        assert!(cut > 50, "test should cut hits off, got {cut}");
+    }
+
+    /// A tree deeper than the inline stack holds traverses on the heap with
+    /// the same results.
+    #[test]
+    fn heap_stack_gives_the_same_hits() {
+        let (tris, rays) = random_soup(2000, 3);
+        let mut accel = Accel::build(&tris, BuildQuality::Medium);
+        let inline: Vec<_> = rays.iter().map(|r| accel.intersect(r)).collect();
+        accel.wide.depth = 1000;
+        for (r, h) in rays.iter().zip(&inline) {
+            assert_eq!(accel.intersect(r), *h);
+            assert_eq!(accel.occluded(r), h.is_some());
+        }
+    }
+
+    /// `validate` reports a box that no longer holds what is below it.
+    #[test]
+    fn validate_finds_a_shrunk_box() {
+        let (tris, _) = random_soup(500, 4);
+        let mut accel = Accel::build(&tris, BuildQuality::Medium);
+        accel.validate().unwrap();
+        let node = accel.wide.nodes.len() - 1;
+        let slot = (0..wide::WIDTH)
+            .find(|&s| accel.wide.nodes[node].used(s))
+            .unwrap();
+        accel.wide.nodes[node].bounds[1][slot] = accel.wide.nodes[node].bounds[0][slot];
+        let err = accel.validate().unwrap_err();
+        assert!(err.contains("outside"), "{err}");
     }
 
     #[test]
@@ -286,12 +410,16 @@ mod signed_zero_tests {
             Vec3::new(5.0, 0.0, 5.0),
             Vec3::new(-5.0, 0.0, 5.0),
         );
-        let accel = Accel::build(&[[a, b, c], [a, c, d]], BuildQuality::Medium);
-        for o in [
-            Vec3::new(3.0, 1.0, 0.0),
-            Vec3::new(0.0, 1.0, 0.0),
-            Vec3::new(-2.0, 1.0, 4.0),
-        ] {
+        let mut accel = Accel::build(&[[a, b, c], [a, c, d]], BuildQuality::Medium);
+        for (kernel, o) in Kernel::available().into_iter().flat_map(|k| {
+            [
+                Vec3::new(3.0, 1.0, 0.0),
+                Vec3::new(0.0, 1.0, 0.0),
+                Vec3::new(-2.0, 1.0, 4.0),
+            ]
+            .map(|o| (k, o))
+        }) {
+            accel.set_kernel(kernel).unwrap();
             for dir in [
                 -Vec3::Y,
                 Vec3::new(0.0, -1.0, 0.0),
@@ -299,8 +427,11 @@ mod signed_zero_tests {
             ] {
                 let ray = Ray::new(o, dir);
                 let hit = accel.intersect(&ray);
-                assert!(hit.is_some_and(|h| (h.t - 1.0).abs() < 1e-6), "{o} {dir:?}");
-                assert!(accel.occluded(&ray), "{o} {dir:?}");
+                assert!(
+                    hit.is_some_and(|h| (h.t - 1.0).abs() < 1e-6),
+                    "{kernel:?} {o} {dir:?}"
+                );
+                assert!(accel.occluded(&ray), "{kernel:?} {o} {dir:?}");
             }
         }
     }

@@ -1,0 +1,370 @@
+//! Single-ray traversal of the 8-wide BVH. Each step tests one node's eight
+//! child boxes at once (the slab test with the near and far planes chosen
+//! once per ray from the signs of its direction, so empty slots and the
+//! min/max swap cost nothing), then visits the hit children nearest first:
+//! it continues into the nearest and pushes the others, sorted, with their
+//! entry distances, so that popped entries beyond the closest hit so far
+//! are dropped. Occlusion rays push without sorting and stop at the first
+//! hit. The same code is compiled twice: portable (LLVM picks the vector
+//! width it may) and for AVX2, chosen at run time; both make the same
+//! IEEE operations in the same order, so they find the same hits.
+//!
+//! The one module of the crate with `unsafe` code: calling the AVX2
+//! functions (after the CPU check) and the uninitialised traversal stack
+//! (zeroing 2 KB per ray would cost more than a node test).
+#![allow(unsafe_code)]
+
+use super::watertight::{TriangleHit, WatertightRay};
+use super::wide::{LEAF_BIT, Node8, WIDTH, Wide, leaf_range};
+use glam::{Vec3, Vec3A};
+use std::mem::MaybeUninit;
+
+/// Which compiled traversal runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kernel {
+    /// Plain Rust, for any CPU.
+    Portable,
+    /// 8-lane AVX2 box tests (x86-64 CPUs since 2013).
+    Avx2,
+}
+
+impl Kernel {
+    /// The fastest kernel this CPU runs.
+    pub fn best() -> Kernel {
+        if Kernel::Avx2.is_supported() {
+            Kernel::Avx2
+        } else {
+            Kernel::Portable
+        }
+    }
+
+    /// True if this CPU can run the kernel.
+    pub fn is_supported(self) -> bool {
+        match self {
+            Kernel::Portable => true,
+            #[cfg(target_arch = "x86_64")]
+            Kernel::Avx2 => std::arch::is_x86_feature_detected!("avx2"),
+            #[cfg(not(target_arch = "x86_64"))]
+            Kernel::Avx2 => false,
+        }
+    }
+
+    /// Every kernel this CPU runs.
+    pub fn available() -> Vec<Kernel> {
+        [Kernel::Portable, Kernel::Avx2]
+            .into_iter()
+            .filter(|k| k.is_supported())
+            .collect()
+    }
+}
+
+/// The ray as the box test sees it: origin, reciprocal direction, and for
+/// each axis the plane (index into [`Node8::bounds`]) it enters by and the
+/// one it leaves by.
+pub(super) struct BoxRay {
+    origin: [f32; 3],
+    inv: [f32; 3],
+    near: [usize; 3],
+    far: [usize; 3],
+}
+
+impl BoxRay {
+    /// Zero direction components (of either sign) become a tiny positive
+    /// value: 1/(−0) = −∞ times a zero distance gives NaN, which would drop
+    /// axis-parallel rays. The triangle test still uses the exact direction.
+    pub fn new(origin: Vec3, direction: Vec3) -> Self {
+        let safe = Vec3::select(direction.cmpeq(Vec3::ZERO), Vec3::splat(1e-30), direction);
+        let inv = safe.recip();
+        let neg = |a: usize| (inv[a] < 0.0) as usize;
+        BoxRay {
+            origin: origin.to_array(),
+            inv: inv.to_array(),
+            near: [neg(0), 2 + neg(1), 4 + neg(2)],
+            far: [1 - neg(0), 3 - neg(1), 5 - neg(2)],
+        }
+    }
+}
+
+/// A deferred subtree: its slot code and the distance at which the ray
+/// enters its box.
+#[derive(Clone, Copy)]
+struct Entry {
+    code: u32,
+    t: f32,
+}
+
+/// Entries a stack holds without going to the heap: enough for 36 levels
+/// (each level defers at most seven children).
+const STACK_INLINE: usize = 256;
+
+/// Runs `f` with a traversal stack large enough for `wide`.
+#[inline(always)]
+fn with_stack<R>(wide: &Wide, f: impl FnOnce(&mut [MaybeUninit<Entry>]) -> R) -> R {
+    let need = (WIDTH - 1) * wide.depth + 1;
+    if need <= STACK_INLINE {
+        let mut buf = [const { MaybeUninit::uninit() }; STACK_INLINE];
+        f(&mut buf)
+    } else {
+        let mut buf = vec![MaybeUninit::uninit(); need];
+        f(&mut buf)
+    }
+}
+
+/// Entry distances of the eight slots (clamped below by 0) and the mask of
+/// the slots the ray enters before `tmax`: portable code.
+#[inline(always)]
+fn slab_portable(node: &Node8, r: &BoxRay, tmax: f32, t_enter: &mut [f32; WIDTH]) -> u32 {
+    let b = &node.bounds;
+    let [ox, oy, oz] = r.origin;
+    let [ix, iy, iz] = r.inv;
+    let mut mask = 0;
+    for i in 0..WIDTH {
+        let nx = (b[r.near[0]][i] - ox) * ix;
+        let ny = (b[r.near[1]][i] - oy) * iy;
+        let nz = (b[r.near[2]][i] - oz) * iz;
+        let fx = (b[r.far[0]][i] - ox) * ix;
+        let fy = (b[r.far[1]][i] - oy) * iy;
+        let fz = (b[r.far[2]][i] - oz) * iz;
+        let t0 = nx.max(ny).max(nz.max(0.0));
+        let t1 = fx.min(fy).min(fz.min(tmax));
+        t_enter[i] = t0;
+        mask |= ((t0 <= t1) as u32) << i;
+    }
+    mask
+}
+
+/// [`slab_portable`] in AVX2: the same operations, eight lanes at a time.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline]
+fn slab_avx2(node: &Node8, r: &BoxRay, tmax: f32, t_enter: &mut [f32; WIDTH]) -> u32 {
+    use std::arch::x86_64::*;
+    let b = &node.bounds;
+    // SAFETY: each plane is 8 contiguous f32; unaligned loads need no
+    // alignment, and `t_enter` holds 8 f32.
+    unsafe {
+        let plane = |p: usize, o: f32, inv: f32| {
+            let v = _mm256_loadu_ps(b[p].as_ptr());
+            _mm256_mul_ps(_mm256_sub_ps(v, _mm256_set1_ps(o)), _mm256_set1_ps(inv))
+        };
+        let [ox, oy, oz] = r.origin;
+        let [ix, iy, iz] = r.inv;
+        let nx = plane(r.near[0], ox, ix);
+        let ny = plane(r.near[1], oy, iy);
+        let nz = plane(r.near[2], oz, iz);
+        let fx = plane(r.far[0], ox, ix);
+        let fy = plane(r.far[1], oy, iy);
+        let fz = plane(r.far[2], oz, iz);
+        let t0 = _mm256_max_ps(
+            _mm256_max_ps(nx, ny),
+            _mm256_max_ps(nz, _mm256_setzero_ps()),
+        );
+        let t1 = _mm256_min_ps(
+            _mm256_min_ps(fx, fy),
+            _mm256_min_ps(fz, _mm256_set1_ps(tmax)),
+        );
+        _mm256_storeu_ps(t_enter.as_mut_ptr(), t0);
+        _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(t0, t1)) as u32
+    }
+}
+
+#[inline(always)]
+fn slab<const AVX2: bool>(node: &Node8, r: &BoxRay, tmax: f32, t: &mut [f32; WIDTH]) -> u32 {
+    #[cfg(target_arch = "x86_64")]
+    if AVX2 {
+        // SAFETY: the AVX2 entry points run only where `Kernel::Avx2` is
+        // supported (checked in `Accel::set_kernel` and `Kernel::best`).
+        return unsafe { slab_avx2(node, r, tmax, t) };
+    }
+    slab_portable(node, r, tmax, t)
+}
+
+/// Closest accepted hit in (0, tmax): the leaf-order triangle index and
+/// the hit. `keep(i, b1, b2)` filters hits (any-hit test).
+#[inline(always)]
+fn closest<const AVX2: bool>(
+    wide: &Wide,
+    tris: &[[Vec3A; 3]],
+    br: &BoxRay,
+    wt: &WatertightRay,
+    tmax: f32,
+    keep: &impl Fn(usize, f32, f32) -> bool,
+) -> Option<(usize, TriangleHit)> {
+    with_stack(wide, |stack| {
+        let mut sp = 0;
+        let mut best: Option<(usize, TriangleHit)> = None;
+        let mut best_t = tmax;
+        let mut code = 0u32;
+        loop {
+            if code & LEAF_BIT != 0 {
+                for i in leaf_range(code) {
+                    let [a, b, c] = tris[i];
+                    if let Some(h) = wt.intersect_a(a, b, c, best_t)
+                        && keep(i, h.b1, h.b2)
+                    {
+                        best_t = h.t;
+                        best = Some((i, h));
+                    }
+                }
+            } else {
+                let node = &wide.nodes[code as usize];
+                let mut t = [0.0; WIDTH];
+                let mask = slab::<AVX2>(node, br, best_t, &mut t);
+                if mask != 0 {
+                    if mask & (mask - 1) == 0 {
+                        code = node.child[mask.trailing_zeros() as usize];
+                        continue;
+                    }
+                    // Hit slots sorted by decreasing entry distance.
+                    let mut hits = [Entry { code: 0, t: 0.0 }; WIDTH];
+                    let mut n = 0;
+                    let mut m = mask;
+                    while m != 0 {
+                        let i = m.trailing_zeros() as usize;
+                        m &= m - 1;
+                        let e = Entry {
+                            code: node.child[i],
+                            t: t[i],
+                        };
+                        let mut j = n;
+                        while j > 0 && hits[j - 1].t < e.t {
+                            hits[j] = hits[j - 1];
+                            j -= 1;
+                        }
+                        hits[j] = e;
+                        n += 1;
+                    }
+                    for &e in &hits[..n - 1] {
+                        stack[sp] = MaybeUninit::new(e);
+                        sp += 1;
+                    }
+                    code = hits[n - 1].code;
+                    continue;
+                }
+            }
+            loop {
+                if sp == 0 {
+                    return best;
+                }
+                sp -= 1;
+                // SAFETY: entries below `sp` were written above.
+                let e = unsafe { stack[sp].assume_init() };
+                if e.t <= best_t {
+                    code = e.code;
+                    break;
+                }
+            }
+        }
+    })
+}
+
+/// True if an accepted hit lies in (0, tmax).
+#[inline(always)]
+fn any<const AVX2: bool>(
+    wide: &Wide,
+    tris: &[[Vec3A; 3]],
+    br: &BoxRay,
+    wt: &WatertightRay,
+    tmax: f32,
+    keep: &impl Fn(usize, f32, f32) -> bool,
+) -> bool {
+    with_stack(wide, |stack| {
+        let mut sp = 0;
+        let mut code = 0u32;
+        loop {
+            if code & LEAF_BIT != 0 {
+                for i in leaf_range(code) {
+                    let [a, b, c] = tris[i];
+                    if let Some(h) = wt.intersect_a(a, b, c, tmax)
+                        && keep(i, h.b1, h.b2)
+                    {
+                        return true;
+                    }
+                }
+            } else {
+                let node = &wide.nodes[code as usize];
+                let mut t = [0.0; WIDTH];
+                let mut m = slab::<AVX2>(node, br, tmax, &mut t);
+                while m != 0 {
+                    let i = m.trailing_zeros() as usize;
+                    m &= m - 1;
+                    stack[sp] = MaybeUninit::new(Entry {
+                        code: node.child[i],
+                        t: 0.0,
+                    });
+                    sp += 1;
+                }
+            }
+            if sp == 0 {
+                return false;
+            }
+            sp -= 1;
+            // SAFETY: entries below `sp` were written above.
+            code = unsafe { stack[sp].assume_init() }.code;
+        }
+    })
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn closest_avx2(
+    wide: &Wide,
+    tris: &[[Vec3A; 3]],
+    br: &BoxRay,
+    wt: &WatertightRay,
+    tmax: f32,
+    keep: &impl Fn(usize, f32, f32) -> bool,
+) -> Option<(usize, TriangleHit)> {
+    closest::<true>(wide, tris, br, wt, tmax, keep)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn any_avx2(
+    wide: &Wide,
+    tris: &[[Vec3A; 3]],
+    br: &BoxRay,
+    wt: &WatertightRay,
+    tmax: f32,
+    keep: &impl Fn(usize, f32, f32) -> bool,
+) -> bool {
+    any::<true>(wide, tris, br, wt, tmax, keep)
+}
+
+/// Closest accepted hit with `kernel` (which this CPU must support).
+#[inline]
+pub(super) fn closest_hit(
+    kernel: Kernel,
+    wide: &Wide,
+    tris: &[[Vec3A; 3]],
+    br: &BoxRay,
+    wt: &WatertightRay,
+    tmax: f32,
+    keep: &impl Fn(usize, f32, f32) -> bool,
+) -> Option<(usize, TriangleHit)> {
+    match kernel {
+        // SAFETY: `kernel` is supported (the caller's contract).
+        #[cfg(target_arch = "x86_64")]
+        Kernel::Avx2 => unsafe { closest_avx2(wide, tris, br, wt, tmax, keep) },
+        _ => closest::<false>(wide, tris, br, wt, tmax, keep),
+    }
+}
+
+/// True if an accepted hit lies in (0, tmax), with `kernel`.
+#[inline]
+pub(super) fn any_hit(
+    kernel: Kernel,
+    wide: &Wide,
+    tris: &[[Vec3A; 3]],
+    br: &BoxRay,
+    wt: &WatertightRay,
+    tmax: f32,
+    keep: &impl Fn(usize, f32, f32) -> bool,
+) -> bool {
+    match kernel {
+        // SAFETY: `kernel` is supported (the caller's contract).
+        #[cfg(target_arch = "x86_64")]
+        Kernel::Avx2 => unsafe { any_avx2(wide, tris, br, wt, tmax, keep) },
+        _ => any::<false>(wide, tris, br, wt, tmax, keep),
+    }
+}
