@@ -97,17 +97,23 @@ struct Entry {
 /// (each level defers at most seven children).
 const STACK_INLINE: usize = 256;
 
-/// Runs `f` with a traversal stack large enough for `wide`.
-#[inline(always)]
-fn with_stack<R>(wide: &Wide, f: impl FnOnce(&mut [MaybeUninit<Entry>]) -> R) -> R {
-    let need = (WIDTH - 1) * wide.depth + 1;
-    if need <= STACK_INLINE {
-        let mut buf = [const { MaybeUninit::uninit() }; STACK_INLINE];
-        f(&mut buf)
-    } else {
-        let mut buf = vec![MaybeUninit::uninit(); need];
-        f(&mut buf)
-    }
+/// Evaluates `$body` with `$stack` bound to an uninitialised traversal
+/// stack large enough for `$wide`: inline, or on the heap for very deep
+/// trees. A macro, not a closure: closures do not inherit the caller's
+/// target features, so the AVX2 box test would not inline into them.
+macro_rules! with_stack {
+    ($wide:expr, $stack:ident => $body:expr) => {{
+        let need = (WIDTH - 1) * $wide.depth + 1;
+        if need <= STACK_INLINE {
+            let mut buf = [const { MaybeUninit::<Entry>::uninit() }; STACK_INLINE];
+            let $stack = &mut buf[..];
+            $body
+        } else {
+            let mut buf = vec![MaybeUninit::<Entry>::uninit(); need];
+            let $stack = &mut buf[..];
+            $body
+        }
+    }};
 }
 
 /// Entry distances of the eight slots (clamped below by 0) and the mask of
@@ -134,10 +140,14 @@ fn slab_portable(node: &Node8, r: &BoxRay, tmax: f32, t_enter: &mut [f32; WIDTH]
 }
 
 /// [`slab_portable`] in AVX2: the same operations, eight lanes at a time.
+///
+/// # Safety
+/// The CPU must support AVX2. Not a `#[target_feature]` function, which
+/// could not be `inline(always)`: it inlines into the AVX2 entry points,
+/// whose features the intrinsics then inline under.
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-#[inline]
-fn slab_avx2(node: &Node8, r: &BoxRay, tmax: f32, t_enter: &mut [f32; WIDTH]) -> u32 {
+#[inline(always)]
+unsafe fn slab_avx2(node: &Node8, r: &BoxRay, tmax: f32, t_enter: &mut [f32; WIDTH]) -> u32 {
     use std::arch::x86_64::*;
     let b = &node.bounds;
     // SAFETY: each plane is 8 contiguous f32; unaligned loads need no
@@ -189,8 +199,9 @@ fn closest<const AVX2: bool>(
     wt: &WatertightRay,
     tmax: f32,
     keep: &impl Fn(usize, f32, f32) -> bool,
+    stack: &mut [MaybeUninit<Entry>],
 ) -> Option<(usize, TriangleHit)> {
-    with_stack(wide, |stack| {
+    {
         let mut sp = 0;
         let mut best: Option<(usize, TriangleHit)> = None;
         let mut best_t = tmax;
@@ -255,7 +266,7 @@ fn closest<const AVX2: bool>(
                 }
             }
         }
-    })
+    }
 }
 
 /// True if an accepted hit lies in (0, tmax).
@@ -267,8 +278,9 @@ fn any<const AVX2: bool>(
     wt: &WatertightRay,
     tmax: f32,
     keep: &impl Fn(usize, f32, f32) -> bool,
+    stack: &mut [MaybeUninit<Entry>],
 ) -> bool {
-    with_stack(wide, |stack| {
+    {
         let mut sp = 0;
         let mut code = 0u32;
         loop {
@@ -302,7 +314,7 @@ fn any<const AVX2: bool>(
             // SAFETY: entries below `sp` were written above.
             code = unsafe { stack[sp].assume_init() }.code;
         }
-    })
+    }
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -315,7 +327,7 @@ fn closest_avx2(
     tmax: f32,
     keep: &impl Fn(usize, f32, f32) -> bool,
 ) -> Option<(usize, TriangleHit)> {
-    closest::<true>(wide, tris, br, wt, tmax, keep)
+    with_stack!(wide, s => closest::<true>(wide, tris, br, wt, tmax, keep, s))
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -328,7 +340,7 @@ fn any_avx2(
     tmax: f32,
     keep: &impl Fn(usize, f32, f32) -> bool,
 ) -> bool {
-    any::<true>(wide, tris, br, wt, tmax, keep)
+    with_stack!(wide, s => any::<true>(wide, tris, br, wt, tmax, keep, s))
 }
 
 /// Closest accepted hit with `kernel` (which this CPU must support).
@@ -346,7 +358,7 @@ pub(super) fn closest_hit(
         // SAFETY: `kernel` is supported (the caller's contract).
         #[cfg(target_arch = "x86_64")]
         Kernel::Avx2 => unsafe { closest_avx2(wide, tris, br, wt, tmax, keep) },
-        _ => closest::<false>(wide, tris, br, wt, tmax, keep),
+        _ => with_stack!(wide, s => closest::<false>(wide, tris, br, wt, tmax, keep, s)),
     }
 }
 
@@ -365,6 +377,6 @@ pub(super) fn any_hit(
         // SAFETY: `kernel` is supported (the caller's contract).
         #[cfg(target_arch = "x86_64")]
         Kernel::Avx2 => unsafe { any_avx2(wide, tris, br, wt, tmax, keep) },
-        _ => any::<false>(wide, tris, br, wt, tmax, keep),
+        _ => with_stack!(wide, s => any::<false>(wide, tris, br, wt, tmax, keep, s)),
     }
 }

@@ -70,7 +70,7 @@ impl WatertightRay {
     }
 
     /// [`WatertightRay::intersect`] on SIMD-aligned vertices.
-    #[inline]
+    #[inline(always)]
     pub fn intersect_a(&self, p0: Vec3A, p1: Vec3A, p2: Vec3A, tmax: f32) -> Option<TriangleHit> {
         let a = p0 - self.origin;
         let b = p1 - self.origin;
