@@ -41,8 +41,9 @@ fn laine_karras_permutation(mut x: u32, seed: u32) -> u32 {
     x
 }
 
-/// Owen scramble of a 32-bit fixed-point value.
-#[inline]
+/// Owen scramble of a 32-bit fixed-point value (the definition the tests
+/// check the sampler against).
+#[cfg(test)]
 fn nested_uniform_scramble(x: u32, seed: u32) -> u32 {
     laine_karras_permutation(x.reverse_bits(), seed).reverse_bits()
 }
@@ -75,8 +76,10 @@ const fn sobol_dim1_by_bits(index: u32) -> u32 {
     r
 }
 
-/// The generator matrix is linear over GF(2), so the product splits into
-/// one table per index byte: `x = T0[b0] ^ T1[b1] ^ T2[b2] ^ T3[b3]`.
+/// Sobol dimension 1 in the index domain, for the tests' definition path:
+/// the generator matrix is linear over GF(2), so the product splits into
+/// one table per index byte, `x = T0[b0] ^ T1[b1] ^ T2[b2] ^ T3[b3]`.
+#[cfg(test)]
 const SOBOL_DIM1_BYTE_TABLES: [[u32; 256]; 4] = {
     let mut t = [[0u32; 256]; 4];
     let mut byte = 0;
@@ -91,7 +94,7 @@ const SOBOL_DIM1_BYTE_TABLES: [[u32; 256]; 4] = {
     t
 };
 
-#[inline]
+#[cfg(test)]
 fn sobol_dim1(index: u32) -> u32 {
     let t = &SOBOL_DIM1_BYTE_TABLES;
     t[0][(index & 0xff) as usize]
