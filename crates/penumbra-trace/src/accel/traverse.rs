@@ -380,3 +380,84 @@ pub(super) fn any_hit(
         _ => with_stack!(wide, s => any::<false>(wide, tris, br, wt, tmax, keep, s)),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The kernels offered are the CPU's: always the portable one, AVX2
+    /// exactly when the CPU reports it (tests that loop over the kernels
+    /// would pass vacuously on an empty list).
+    #[test]
+    fn available_kernels_are_the_cpus() {
+        let kernels = Kernel::available();
+        assert!(kernels.contains(&Kernel::Portable));
+        #[cfg(target_arch = "x86_64")]
+        {
+            let avx2 = std::arch::is_x86_feature_detected!("avx2");
+            assert_eq!(kernels.contains(&Kernel::Avx2), avx2);
+            let best = if avx2 { Kernel::Avx2 } else { Kernel::Portable };
+            assert_eq!(Kernel::best(), best);
+        }
+    }
+
+    /// A node with five boxes and three empty slots.
+    fn node() -> Node8 {
+        let boxes: [([f32; 3], [f32; 3]); 5] = [
+            ([1.0; 3], [2.0; 3]),
+            ([-3.0, -0.5, -0.5], [-2.0, 0.5, 0.5]),
+            ([-1.0; 3], [1.0; 3]),
+            ([1.0, 5.0, 1.0], [2.0, 6.0, 2.0]),
+            ([4.0; 3], [5.0; 3]),
+        ];
+        let mut n = Node8 {
+            bounds: [[0.0; WIDTH]; 6],
+            child: [0; WIDTH],
+        };
+        for slot in 0..WIDTH {
+            for a in 0..3 {
+                let (lo, hi) = boxes
+                    .get(slot)
+                    .map_or((f32::INFINITY, f32::NEG_INFINITY), |b| (b.0[a], b.1[a]));
+                n.bounds[2 * a][slot] = lo;
+                n.bounds[2 * a + 1][slot] = hi;
+            }
+        }
+        n
+    }
+
+    /// Entry distances and hit masks against the closed form, along the
+    /// diagonal both ways (so both plane choices are used): from the origin
+    /// along +(1,1,1)/√3 the ray enters [1,2]³ at √3, starts inside
+    /// [−1,1]³ (entry clamped to 0) and reaches [4,5]³ only at 4√3, beyond
+    /// tmax = 5; from (3,3,3) along −(1,1,1)/√3 it enters [1,2]³ at √3 and
+    /// [−1,1]³ at 2√3. The other boxes lie off the diagonal.
+    #[test]
+    fn slab_gives_closed_form_entry_distances() {
+        let n = node();
+        let s3 = 3f32.sqrt();
+        let d = Vec3::ONE / s3;
+        let cases = [
+            (Vec3::ZERO, d, 0b00101, [(0, s3), (2, 0.0)]),
+            (Vec3::splat(3.0), -d, 0b00101, [(0, s3), (2, 2.0 * s3)]),
+        ];
+        for avx2 in [false, Kernel::Avx2.is_supported()] {
+            for (o, dir, mask, entries) in cases {
+                let r = BoxRay::new(o, dir);
+                let mut t = [f32::NAN; WIDTH];
+                let m = if avx2 {
+                    slab::<true>(&n, &r, 5.0, &mut t)
+                } else {
+                    slab::<false>(&n, &r, 5.0, &mut t)
+                };
+                assert_eq!(m, mask, "avx2 {avx2} from {o}: {m:#b}");
+                for (slot, expected) in entries {
+                    assert!(
+                        (t[slot] - expected).abs() < 1e-5,
+                        "avx2 {avx2} slot {slot}: {t:?}"
+                    );
+                }
+            }
+        }
+    }
+}
