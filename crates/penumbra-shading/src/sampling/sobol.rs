@@ -76,33 +76,6 @@ const fn sobol_dim1_by_bits(index: u32) -> u32 {
     r
 }
 
-/// Sobol dimension 1 in the index domain, for the tests' definition path:
-/// the generator matrix is linear over GF(2), so the product splits into
-/// one table per index byte, `x = T0[b0] ^ T1[b1] ^ T2[b2] ^ T3[b3]`.
-#[cfg(test)]
-const SOBOL_DIM1_BYTE_TABLES: [[u32; 256]; 4] = {
-    let mut t = [[0u32; 256]; 4];
-    let mut byte = 0;
-    while byte < 4 {
-        let mut v = 0;
-        while v < 256 {
-            t[byte][v] = sobol_dim1_by_bits((v as u32) << (8 * byte));
-            v += 1;
-        }
-        byte += 1;
-    }
-    t
-};
-
-#[cfg(test)]
-fn sobol_dim1(index: u32) -> u32 {
-    let t = &SOBOL_DIM1_BYTE_TABLES;
-    t[0][(index & 0xff) as usize]
-        ^ t[1][((index >> 8) & 0xff) as usize]
-        ^ t[2][((index >> 16) & 0xff) as usize]
-        ^ t[3][(index >> 24) as usize]
-}
-
 /// Sobol dimension 1 in the bit-reversed domain, one table per byte:
 /// `reverse(sobol_dim1(reverse(y)))` = `R0[y0] ^ R1[y1] ^ R2[y2] ^ R3[y3]`
 /// (bit reversal is linear over GF(2) too). The sampler's index shuffle
@@ -194,7 +167,7 @@ mod tests {
     fn sobol_dimension_one_is_a_0_2_sequence_prefix() {
         // The first 4 points of (vdC, sobol1) are stratified in each 2x2 cell.
         let pts: Vec<(u32, u32)> = (0..4)
-            .map(|i: u32| (i.reverse_bits() >> 30, sobol_dim1(i) >> 30))
+            .map(|i: u32| (i.reverse_bits() >> 30, sobol_dim1_by_bits(i) >> 30))
             .collect();
         let mut cells = pts.clone();
         cells.sort();
@@ -239,13 +212,18 @@ mod tests {
 
     #[test]
     fn table_sobol_matches_definition() {
+        let by_definition = |y: u32| sobol_dim1_by_bits(y.reverse_bits()).reverse_bits();
         let mut x = 1u32;
         for _ in 0..100_000 {
             x = hash_u32(x);
-            assert_eq!(sobol_dim1(x), sobol_dim1_by_bits(x));
+            assert_eq!(sobol_dim1_reversed(x), by_definition(x));
         }
-        for i in 0..4096 {
-            assert_eq!(sobol_dim1(i), sobol_dim1_by_bits(i));
+        for i in 0..4096u32 {
+            assert_eq!(sobol_dim1_reversed(i), by_definition(i));
+            assert_eq!(
+                sobol_dim1_reversed(i.reverse_bits()),
+                by_definition(i.reverse_bits())
+            );
         }
     }
 

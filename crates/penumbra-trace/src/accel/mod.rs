@@ -15,9 +15,7 @@ use crate::ray::Ray;
 use glam::{Vec3, Vec3A};
 use obvhs::BvhBuildParams;
 use obvhs::aabb::Aabb;
-use obvhs::triangle::Triangle;
 use std::time::Duration;
-use traverse::BoxRay;
 use wide::{LEAF_BIT, LEAF_MAX, Wide, leaf_range};
 
 /// Relative padding of primitive boxes (≈ 32 ulps of the largest coordinate).
@@ -88,15 +86,10 @@ impl Accel {
         let boxes: Vec<Aabb> = triangles
             .iter()
             .map(|t| {
-                let b = Triangle {
-                    v0: t[0].into(),
-                    v1: t[1].into(),
-                    v2: t[2].into(),
-                }
-                .aabb();
-                let pad = b.min.abs().max(b.max.abs()).max_element() * BOX_PAD_RELATIVE
-                    + f32::MIN_POSITIVE;
-                Aabb::new(b.min - pad, b.max + pad)
+                let (lo, hi) = (t[0].min(t[1]).min(t[2]), t[0].max(t[1]).max(t[2]));
+                let pad =
+                    lo.abs().max(hi.abs()).max_element() * BOX_PAD_RELATIVE + f32::MIN_POSITIVE;
+                Aabb::new((lo - pad).into(), (hi + pad).into())
             })
             .collect();
         let bvh2 = obvhs::bvh2::builder::build_bvh2(&boxes, params, &mut Duration::default());
@@ -147,18 +140,8 @@ impl Accel {
         if self.ordered.is_empty() {
             return None;
         }
-        let wt = WatertightRay::new(ray.origin, ray.direction);
-        let br = BoxRay::new(ray.origin, ray.direction);
         let keep = |i: usize, b1, b2| keep(self.primitive_indices[i], b1, b2);
-        let (i, h) = traverse::closest_hit(
-            self.kernel,
-            &self.wide,
-            &self.ordered,
-            &br,
-            &wt,
-            ray.tmax,
-            &keep,
-        )?;
+        let (i, h) = traverse::closest_hit(self.kernel, &self.query(ray), &keep)?;
         Some(Hit {
             triangle: self.primitive_indices[i],
             t: h.t,
@@ -180,17 +163,19 @@ impl Accel {
         if self.ordered.is_empty() {
             return false;
         }
-        let wt = WatertightRay::new(ray.origin, ray.direction);
-        let br = BoxRay::new(ray.origin, ray.direction);
         let keep = |i: usize, b1, b2| keep(self.primitive_indices[i], b1, b2);
-        traverse::any_hit(
-            self.kernel,
+        traverse::any_hit(self.kernel, &self.query(ray), &keep)
+    }
+
+    /// `ray` set up for the traversal.
+    #[inline]
+    fn query(&self, ray: &Ray) -> traverse::Query<'_> {
+        traverse::Query::new(
             &self.wide,
             &self.ordered,
-            &br,
-            &wt,
+            ray.origin,
+            ray.direction,
             ray.tmax,
-            &keep,
         )
     }
 

@@ -61,7 +61,7 @@ impl Kernel {
 /// The ray as the box test sees it: origin, reciprocal direction, and for
 /// each axis the plane (index into [`Node8::bounds`]) it enters by and the
 /// one it leaves by.
-pub(super) struct BoxRay {
+struct BoxRay {
     origin: [f32; 3],
     inv: [f32; 3],
     near: [usize; 3],
@@ -81,6 +81,34 @@ impl BoxRay {
             inv: inv.to_array(),
             near: [neg(0), 2 + neg(1), 4 + neg(2)],
             far: [1 - neg(0), 3 - neg(1), 5 - neg(2)],
+        }
+    }
+}
+
+/// One ray's query: the tree, its triangles in leaf order, the ray as the
+/// box test and the triangle test each see it, and the far end of the ray.
+pub(super) struct Query<'a> {
+    pub wide: &'a Wide,
+    pub tris: &'a [[Vec3A; 3]],
+    boxes: BoxRay,
+    triangles: WatertightRay,
+    tmax: f32,
+}
+
+impl<'a> Query<'a> {
+    pub fn new(
+        wide: &'a Wide,
+        tris: &'a [[Vec3A; 3]],
+        origin: Vec3,
+        direction: Vec3,
+        tmax: f32,
+    ) -> Self {
+        Query {
+            wide,
+            tris,
+            boxes: BoxRay::new(origin, direction),
+            triangles: WatertightRay::new(origin, direction),
+            tmax,
         }
     }
 }
@@ -193,77 +221,71 @@ fn slab<const AVX2: bool>(node: &Node8, r: &BoxRay, tmax: f32, t: &mut [f32; WID
 /// the hit. `keep(i, b1, b2)` filters hits (any-hit test).
 #[inline(always)]
 fn closest<const AVX2: bool>(
-    wide: &Wide,
-    tris: &[[Vec3A; 3]],
-    br: &BoxRay,
-    wt: &WatertightRay,
-    tmax: f32,
+    q: &Query,
     keep: &impl Fn(usize, f32, f32) -> bool,
     stack: &mut [MaybeUninit<Entry>],
 ) -> Option<(usize, TriangleHit)> {
-    {
-        let mut sp = 0;
-        let mut best: Option<(usize, TriangleHit)> = None;
-        let mut best_t = tmax;
-        let mut code = 0u32;
-        loop {
-            if code & LEAF_BIT != 0 {
-                for i in leaf_range(code) {
-                    let [a, b, c] = tris[i];
-                    if let Some(h) = wt.intersect_a(a, b, c, best_t)
-                        && keep(i, h.b1, h.b2)
-                    {
-                        best_t = h.t;
-                        best = Some((i, h));
-                    }
-                }
-            } else {
-                let node = &wide.nodes[code as usize];
-                let mut t = [0.0; WIDTH];
-                let mask = slab::<AVX2>(node, br, best_t, &mut t);
-                if mask != 0 {
-                    if mask & (mask - 1) == 0 {
-                        code = node.child[mask.trailing_zeros() as usize];
-                        continue;
-                    }
-                    // Hit slots sorted by decreasing entry distance.
-                    let mut hits = [Entry { code: 0, t: 0.0 }; WIDTH];
-                    let mut n = 0;
-                    let mut m = mask;
-                    while m != 0 {
-                        let i = m.trailing_zeros() as usize;
-                        m &= m - 1;
-                        let e = Entry {
-                            code: node.child[i],
-                            t: t[i],
-                        };
-                        let mut j = n;
-                        while j > 0 && hits[j - 1].t < e.t {
-                            hits[j] = hits[j - 1];
-                            j -= 1;
-                        }
-                        hits[j] = e;
-                        n += 1;
-                    }
-                    for &e in &hits[..n - 1] {
-                        stack[sp] = MaybeUninit::new(e);
-                        sp += 1;
-                    }
-                    code = hits[n - 1].code;
-                    continue;
+    let mut sp = 0;
+    let mut best: Option<(usize, TriangleHit)> = None;
+    let mut best_t = q.tmax;
+    let mut code = 0u32;
+    loop {
+        if code & LEAF_BIT != 0 {
+            for i in leaf_range(code) {
+                let [a, b, c] = q.tris[i];
+                if let Some(h) = q.triangles.intersect_a(a, b, c, best_t)
+                    && keep(i, h.b1, h.b2)
+                {
+                    best_t = h.t;
+                    best = Some((i, h));
                 }
             }
-            loop {
-                if sp == 0 {
-                    return best;
+        } else {
+            let node = &q.wide.nodes[code as usize];
+            let mut t = [0.0; WIDTH];
+            let mask = slab::<AVX2>(node, &q.boxes, best_t, &mut t);
+            if mask != 0 {
+                if mask & (mask - 1) == 0 {
+                    code = node.child[mask.trailing_zeros() as usize];
+                    continue;
                 }
-                sp -= 1;
-                // SAFETY: entries below `sp` were written above.
-                let e = unsafe { stack[sp].assume_init() };
-                if e.t <= best_t {
-                    code = e.code;
-                    break;
+                // Hit slots sorted by decreasing entry distance.
+                let mut hits = [Entry { code: 0, t: 0.0 }; WIDTH];
+                let mut n = 0;
+                let mut m = mask;
+                while m != 0 {
+                    let i = m.trailing_zeros() as usize;
+                    m &= m - 1;
+                    let e = Entry {
+                        code: node.child[i],
+                        t: t[i],
+                    };
+                    let mut j = n;
+                    while j > 0 && hits[j - 1].t < e.t {
+                        hits[j] = hits[j - 1];
+                        j -= 1;
+                    }
+                    hits[j] = e;
+                    n += 1;
                 }
+                for &e in &hits[..n - 1] {
+                    stack[sp] = MaybeUninit::new(e);
+                    sp += 1;
+                }
+                code = hits[n - 1].code;
+                continue;
+            }
+        }
+        loop {
+            if sp == 0 {
+                return best;
+            }
+            sp -= 1;
+            // SAFETY: entries below `sp` were written above.
+            let e = unsafe { stack[sp].assume_init() };
+            if e.t <= best_t {
+                code = e.code;
+                break;
             }
         }
     }
@@ -272,112 +294,83 @@ fn closest<const AVX2: bool>(
 /// True if an accepted hit lies in (0, tmax).
 #[inline(always)]
 fn any<const AVX2: bool>(
-    wide: &Wide,
-    tris: &[[Vec3A; 3]],
-    br: &BoxRay,
-    wt: &WatertightRay,
-    tmax: f32,
+    q: &Query,
     keep: &impl Fn(usize, f32, f32) -> bool,
     stack: &mut [MaybeUninit<Entry>],
 ) -> bool {
-    {
-        let mut sp = 0;
-        let mut code = 0u32;
-        loop {
-            if code & LEAF_BIT != 0 {
-                for i in leaf_range(code) {
-                    let [a, b, c] = tris[i];
-                    if let Some(h) = wt.intersect_a(a, b, c, tmax)
-                        && keep(i, h.b1, h.b2)
-                    {
-                        return true;
-                    }
-                }
-            } else {
-                let node = &wide.nodes[code as usize];
-                let mut t = [0.0; WIDTH];
-                let mut m = slab::<AVX2>(node, br, tmax, &mut t);
-                while m != 0 {
-                    let i = m.trailing_zeros() as usize;
-                    m &= m - 1;
-                    stack[sp] = MaybeUninit::new(Entry {
-                        code: node.child[i],
-                        t: 0.0,
-                    });
-                    sp += 1;
+    let mut sp = 0;
+    let mut code = 0u32;
+    loop {
+        if code & LEAF_BIT != 0 {
+            for i in leaf_range(code) {
+                let [a, b, c] = q.tris[i];
+                if let Some(h) = q.triangles.intersect_a(a, b, c, q.tmax)
+                    && keep(i, h.b1, h.b2)
+                {
+                    return true;
                 }
             }
-            if sp == 0 {
-                return false;
+        } else {
+            let node = &q.wide.nodes[code as usize];
+            let mut t = [0.0; WIDTH];
+            let mut m = slab::<AVX2>(node, &q.boxes, q.tmax, &mut t);
+            while m != 0 {
+                let i = m.trailing_zeros() as usize;
+                m &= m - 1;
+                stack[sp] = MaybeUninit::new(Entry {
+                    code: node.child[i],
+                    t: 0.0,
+                });
+                sp += 1;
             }
-            sp -= 1;
-            // SAFETY: entries below `sp` were written above.
-            code = unsafe { stack[sp].assume_init() }.code;
         }
+        if sp == 0 {
+            return false;
+        }
+        sp -= 1;
+        // SAFETY: entries below `sp` were written above.
+        code = unsafe { stack[sp].assume_init() }.code;
     }
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 fn closest_avx2(
-    wide: &Wide,
-    tris: &[[Vec3A; 3]],
-    br: &BoxRay,
-    wt: &WatertightRay,
-    tmax: f32,
+    q: &Query,
     keep: &impl Fn(usize, f32, f32) -> bool,
 ) -> Option<(usize, TriangleHit)> {
-    with_stack!(wide, s => closest::<true>(wide, tris, br, wt, tmax, keep, s))
+    with_stack!(q.wide, s => closest::<true>(q, keep, s))
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-fn any_avx2(
-    wide: &Wide,
-    tris: &[[Vec3A; 3]],
-    br: &BoxRay,
-    wt: &WatertightRay,
-    tmax: f32,
-    keep: &impl Fn(usize, f32, f32) -> bool,
-) -> bool {
-    with_stack!(wide, s => any::<true>(wide, tris, br, wt, tmax, keep, s))
+fn any_avx2(q: &Query, keep: &impl Fn(usize, f32, f32) -> bool) -> bool {
+    with_stack!(q.wide, s => any::<true>(q, keep, s))
 }
 
 /// Closest accepted hit with `kernel` (which this CPU must support).
 #[inline]
 pub(super) fn closest_hit(
     kernel: Kernel,
-    wide: &Wide,
-    tris: &[[Vec3A; 3]],
-    br: &BoxRay,
-    wt: &WatertightRay,
-    tmax: f32,
+    q: &Query,
     keep: &impl Fn(usize, f32, f32) -> bool,
 ) -> Option<(usize, TriangleHit)> {
     match kernel {
         // SAFETY: `kernel` is supported (the caller's contract).
         #[cfg(target_arch = "x86_64")]
-        Kernel::Avx2 => unsafe { closest_avx2(wide, tris, br, wt, tmax, keep) },
-        _ => with_stack!(wide, s => closest::<false>(wide, tris, br, wt, tmax, keep, s)),
+        Kernel::Avx2 => unsafe { closest_avx2(q, keep) },
+        _ => with_stack!(q.wide, s => closest::<false>(q, keep, s)),
     }
 }
 
 /// True if an accepted hit lies in (0, tmax), with `kernel`.
 #[inline]
-pub(super) fn any_hit(
-    kernel: Kernel,
-    wide: &Wide,
-    tris: &[[Vec3A; 3]],
-    br: &BoxRay,
-    wt: &WatertightRay,
-    tmax: f32,
-    keep: &impl Fn(usize, f32, f32) -> bool,
-) -> bool {
+pub(super) fn any_hit(kernel: Kernel, q: &Query, keep: &impl Fn(usize, f32, f32) -> bool) -> bool {
     match kernel {
         // SAFETY: `kernel` is supported (the caller's contract).
         #[cfg(target_arch = "x86_64")]
-        Kernel::Avx2 => unsafe { any_avx2(wide, tris, br, wt, tmax, keep) },
-        _ => with_stack!(wide, s => any::<false>(wide, tris, br, wt, tmax, keep, s)),
+        Kernel::Avx2 => unsafe { any_avx2(q, keep) },
+        _ => with_stack!(q.wide, s => any::<false>(q, keep, s)),
     }
 }
 
