@@ -8,10 +8,12 @@
 //!   environment against the closed form ρ·L (0.1 %);
 //! - the prefiltered levels against a quadrature over the map's texels;
 //! - a smooth mirror and rough gold spheres (α = 0.3, 0.6) under the same map
-//!   against CPU `direct` (mean HDR-FLIP over the sphere): the split sum
-//!   does not reach the brief's 0.05 (bounds 0.07 mirror, 0.16 gold), the
-//!   16×16 lobe taps do on gold (≤ 0.05);
-//! - the map drawn as the background through a perspective camera.
+//!   against CPU `direct` (mean HDR-FLIP over the sphere): the mirror,
+//!   box-filtered over each pixel's footprint, reaches the brief's 0.05;
+//!   on gold the split sum does not (bound 0.16) and the 16×16 lobe taps
+//!   do (≤ 0.05);
+//! - the map drawn as the background through a perspective camera,
+//!   box-filtered over each pixel's footprint as the CPU's 16 rays are.
 
 mod common;
 
@@ -513,18 +515,20 @@ fn metal_spheres_reflect_the_environment() {
     .expect("renderer");
     let (eta, k) = conductor_preset("gold").expect("gold");
     // (name, material, CPU spp, largest mean FLIP accepted for the split
-    // sum, for the taps). The brief's target is 0.05: the split sum reaches
-    // it for none of these (measured 0.060, 0.139, 0.131; a uniform 5 %
+    // sum, for the taps). The brief's target is 0.05. The mirror is a delta
+    // lobe (the same lookups either way): 0.033 measured with the map
+    // box-filtered over the pixel's footprint, 0.060 with one lookup at the
+    // pixel centre (aliasing), 0.031 against the CPU at 256 spp. On gold
+    // the split sum does not reach it (measured 0.139, 0.131; a uniform 5 %
     // scale alone costs 0.075 here), so its bounds guard what it reaches;
-    // the taps reach it on gold (0.046, 0.041 measured). The mirror is a
-    // delta lobe (one lookup either way): its 0.060 is aliasing.
+    // the taps reach it (0.046, 0.041 measured).
     let cases = [
         (
             "mirror",
             Bsdf::Mirror(Mirror::new(Rgb::splat(0.9))),
             16,
-            0.07,
-            0.07,
+            0.045,
+            0.045,
         ),
         (
             "gold α 0.3",
@@ -761,7 +765,11 @@ fn prefiltered_levels_match_a_quadrature() {
 /// The background pass draws the map along each pixel's view ray through a
 /// perspective camera (the orthographic tests see one direction only):
 /// against CPU `direct`'s escaping camera rays (nearest texel, 16 rays per
-/// pixel), over the pixels whose centre ray passes the sphere by 5 %.
+/// pixel), over the pixels whose centre ray passes the sphere by 5 %. The
+/// bounds on the 90th percentile and the whole image's FLIP (which holds
+/// the mirror sphere too) fail one lookup per pixel (measured 5.6 % / 0.025
+/// on sunset.exr, 28 % / 0.103 on studio.exr, against 1.2 % / 0.011 and
+/// 4.7 % / 0.032 box-filtered).
 #[test]
 fn the_map_is_drawn_as_the_background() {
     let Some(ctx) = common::gpu("the_map_is_drawn_as_the_background") else {
@@ -777,7 +785,7 @@ fn the_map_is_drawn_as_the_background() {
         },
     );
     let r = ForwardRenderer::new(&ctx, RasterOptions::default()).expect("renderer");
-    for name in ["sunset.exr", "studio.exr"] {
+    for (name, p90_bound, flip_bound) in [("sunset.exr", 0.03, 0.02), ("studio.exr", 0.07, 0.05)] {
         let mut scene = sphere_scene(
             Bsdf::Mirror(Mirror::new(Rgb::ONE)),
             Some(load_map(name)),
@@ -832,5 +840,8 @@ fn the_map_is_drawn_as_the_background() {
             "{name}: median background error {}",
             sorted[sorted.len() / 2]
         );
+        let p90 = sorted[sorted.len() * 9 / 10];
+        assert!(p90 <= p90_bound, "{name}: p90 background error {p90}");
+        assert!(flip <= flip_bound, "{name}: HDR-FLIP {flip}");
     }
 }

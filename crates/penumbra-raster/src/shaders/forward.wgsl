@@ -232,6 +232,13 @@ struct Surface {
     occlusion: f32,
     // 0: the back of a one-sided surface (emission only, no light).
     lit: u32,
+    // Change across one pixel in x and in y of the mirror direction of the
+    // view (world space) and of the direction seen straight through, −ωo:
+    // the footprints of sharp environment reflections (surface_at).
+    mirror_dx: vec3<f32>,
+    mirror_dy: vec3<f32>,
+    through_dx: vec3<f32>,
+    through_dy: vec3<f32>,
 }
 
 // Unit vector from world point p towards the viewer.
@@ -325,7 +332,15 @@ fn surface_of(in: VsOut, facing: bool, ng_raw: vec3<f32>, tc: TexCoords) -> Surf
 // The fragment as a surface; call at the top of an entry point (the
 // derivatives it takes need uniform control flow).
 fn surface_at(in: VsOut, facing: bool) -> Surface {
-    return surface_of(in, facing, cross(dpdx(in.world), dpdy(in.world)), tex_coords(in.uv));
+    var s = surface_of(in, facing, cross(dpdx(in.world), dpdy(in.world)), tex_coords(in.uv));
+    let n = s.frame.n;
+    let wo = s.frame.s * s.wo_local.x + s.frame.t * s.wo_local.y + n * s.wo_local.z;
+    let mirror = 2.0 * dot(n, wo) * n - wo;
+    s.mirror_dx = dpdx(mirror);
+    s.mirror_dy = dpdy(mirror);
+    s.through_dx = -dpdx(wo);
+    s.through_dy = -dpdy(wo);
+    return s;
 }
 
 // Radiance towards the viewer from light i without shadows: f · E⊥ ·

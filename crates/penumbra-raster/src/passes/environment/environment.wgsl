@@ -17,6 +17,33 @@ fn environment_radiance(d: vec3<f32>, roughness: f32) -> vec3<f32> {
     return textureSampleLevel(environment_map, environment_sampler, latlong_uv(m), lod).xyz;
 }
 
+// Most taps per axis of a pixel's footprint (environment_footprint).
+const FOOTPRINT_TAPS_MAX: u32 = 4u;
+
+// The map's own radiance (level 0) box-filtered over a pixel's footprint:
+// the mean over an n×n grid of directions d + u·d_dx + v·d_dy, u, v at the
+// cell centres of (−½, ½)², where d_dx, d_dy are d's change across the pixel
+// — the CPU's box pixel filter, for what the map shows sharply (delta
+// lobes, the background). n is the footprint's extent in texels of the
+// map's height (π radians), rounded up, from 1 to FOOTPRINT_TAPS_MAX.
+fn environment_footprint(d: vec3<f32>, d_dx: vec3<f32>, d_dy: vec3<f32>) -> vec3<f32> {
+    let texels_per_radian = f32(textureDimensions(environment_map, 0).y) / PI;
+    let extent = max(length(d_dx), length(d_dy)) * texels_per_radian;
+    // `extent` is NaN or ∞ only with non-finite derivatives: one lookup.
+    var n = 1u;
+    if extent > 1.0 {
+        n = u32(min(ceil(extent), f32(FOOTPRINT_TAPS_MAX)));
+    }
+    var sum = vec3<f32>(0.0);
+    for (var j = 0u; j < n; j++) {
+        for (var i = 0u; i < n; i++) {
+            let uv = (vec2<f32>(f32(i), f32(j)) + 0.5) / f32(n) - 0.5;
+            sum += environment_radiance(normalize(d + uv.x * d_dx + uv.y * d_dy), 0.0);
+        }
+    }
+    return sum / f32(n * n);
+}
+
 // Taps of the glossy lobe per pixel: ENV_LOBE_TAPS² visible-normal samples
 // on a fixed grid (0: one lookup in the dominant direction; host:
 // RasterOptions::environment_taps).
@@ -97,7 +124,7 @@ fn environment_light(s: Surface, k_a: f32) -> vec3<f32> {
             }
         }
         case ENV_SPEC_DELTA_CONSTANT: {
-            spec = em.f0 * environment_radiance(r, 0.0);
+            spec = em.f0 * environment_footprint(r, s.mirror_dx, s.mirror_dy);
         }
         case ENV_SPEC_DELTA_CONDUCTOR: {
             var f: vec3<f32>;
@@ -106,11 +133,13 @@ fn environment_light(s: Surface, k_a: f32) -> vec3<f32> {
             } else {
                 f = fresnel_conductor(mu, em.eta, em.k);
             }
-            spec = clamp(f, vec3<f32>(0.0), vec3<f32>(1.0)) * environment_radiance(r, 0.0);
+            spec = clamp(f, vec3<f32>(0.0), vec3<f32>(1.0)) * environment_footprint(r, s.mirror_dx, s.mirror_dy);
         }
         case ENV_SPEC_DELTA_DIELECTRIC: {
             let f = fresnel_dielectric(mu, em.ior);
-            spec = f * environment_radiance(r, 0.0) + (1.0 - f) * em.transmit * environment_radiance(-wo, 0.0);
+            let reflected = environment_footprint(r, s.mirror_dx, s.mirror_dy);
+            let through = environment_footprint(-wo, s.through_dx, s.through_dy);
+            spec = f * reflected + (1.0 - f) * em.transmit * through;
         }
         default: {}
     }
@@ -120,7 +149,7 @@ fn environment_light(s: Surface, k_a: f32) -> vec3<f32> {
 // The background pass: a full-screen triangle at depth 0 (reversed depth:
 // the far plane, the prepass's clear value), depth-tested Equal, so it
 // shades exactly the samples no geometry covers, with the map's radiance
-// along the pixel's view ray (level 0, bilinear).
+// along the pixel's view rays (level 0, box-filtered over the pixel).
 struct BackgroundOut {
     @builtin(position) clip: vec4<f32>,
     @location(0) ndc: vec2<f32>,
@@ -146,5 +175,5 @@ fn fs_background(in: BackgroundOut) -> @location(0) vec4<f32> {
     }
     // Alpha 0: not a surface (the surfaces write 1), as the clear colour;
     // auto exposure meters the pixels of alpha > ½.
-    return vec4<f32>(environment_radiance(d, 0.0), 0.0);
+    return vec4<f32>(environment_footprint(d, dpdx(d), dpdy(d)), 0.0);
 }
