@@ -157,6 +157,38 @@ fn bad_arguments_fail_without_output() {
         ),
         (
             &[
+                "render",
+                "--engine",
+                "raster",
+                "--ssao",
+                "hemisphere",
+                "--ao-thin",
+                "1",
+                "-o",
+                "a.png",
+            ],
+            "--ao-thin needs --ssao gtao",
+        ),
+        (
+            &[
+                "render",
+                "--engine",
+                "raster",
+                "--ssao",
+                "gtao",
+                "--ao-thin",
+                "-1",
+                "-o",
+                "a.png",
+            ],
+            "thin-occluder compensation is a number >= 0",
+        ),
+        (
+            &["render", "--ao-thin", "1", "-o", "a.png"],
+            "--ao-thin applies to --engine raster only",
+        ),
+        (
+            &[
                 "render", "--engine", "raster", "--ssao", "sphere", "-o", "a.png",
             ],
             "sphere",

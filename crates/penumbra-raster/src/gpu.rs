@@ -526,7 +526,8 @@ pub struct GpuAoParams {
     pub slices: u32,
     pub steps: u32,
     pub mip_levels: u32,
-    pub _pad0: u32,
+    /// GTAO's thin-occluder compensation (`AoSettings::thin_occluders`).
+    pub thin_occluders: f32,
 }
 
 /// Environment `GpuEnvMaterial::kind`s, as the WGSL constants `ENV_SPEC_*`
@@ -632,8 +633,18 @@ pub fn gpu_structs() -> Vec<HostLayout> {
             GpuAoParams,
             "GpuAoParams",
             [
-                view, tile, proj_scale, size, radius, falloff, ortho, samples, slices, steps,
-                mip_levels, _pad0
+                view,
+                tile,
+                proj_scale,
+                size,
+                radius,
+                falloff,
+                ortho,
+                samples,
+                slices,
+                steps,
+                mip_levels,
+                thin_occluders
             ]
         ),
         host_layout!(

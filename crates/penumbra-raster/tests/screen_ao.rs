@@ -72,6 +72,7 @@ fn settings(method: AoMethod, quality: AoQuality, radius: f32) -> AoSettings {
         method,
         radius: Some(radius),
         quality,
+        thin_occluders: 0.0,
     }
 }
 
@@ -125,19 +126,34 @@ fn errors(gpu: &Image, cpu: &Image, mask: &[bool]) -> (f64, f64) {
     (sum / n.max(1) as f64, flip)
 }
 
-/// Every method and quality against the CPU integrator; returns the MAE
-/// per (method, quality).
+/// The methods compared with the tracer: (method, GTAO thin-occluder
+/// compensation).
+const VARIANTS: [(AoMethod, f32); 3] = [
+    (AoMethod::Hemisphere, 0.0),
+    (AoMethod::Gtao, 0.0),
+    (AoMethod::Gtao, THIN),
+];
+
+/// The thin-occluder compensation measured against the default 0.
+const THIN: f32 = 1.0;
+
+/// Every variant and quality against the CPU integrator; returns the MAE
+/// per (variant, quality), index 3 × variant + quality.
 fn compare_with_tracer(ctx: &GpuContext, name: &str, scene: &Scene, radius: f32) -> Vec<f64> {
     let size = 256;
     let cpu = cpu_ao(scene, size, radius, 1024);
     let mask = surface_mask(scene, size);
     let mut out = Vec::new();
-    for method in METHODS {
+    for (method, thin) in VARIANTS {
         for quality in QUALITIES {
-            let (gpu, _) = raster_ao(ctx, scene, size, 1, settings(method, quality, radius));
+            let ao = AoSettings {
+                thin_occluders: thin,
+                ..settings(method, quality, radius)
+            };
+            let (gpu, _) = raster_ao(ctx, scene, size, 1, ao);
             let (mae, flip) = errors(&gpu, &cpu, &mask);
             eprintln!(
-                "{name}, R = {radius}: {} {}: MAE {mae:.4}, FLIP {flip:.4} (vs ao integrator 1024 spp, {size}²)",
+                "{name}, R = {radius}: {} {} (thin-occluder compensation {thin}): MAE {mae:.4}, FLIP {flip:.4} (vs ao integrator 1024 spp, {size}²)",
                 method.name(),
                 quality.name()
             );
@@ -157,11 +173,19 @@ fn cornell_box_ao_approaches_the_ao_integrator() {
     // 0.042 (low / medium / high). Most of what remains is occlusion the
     // depth buffer cannot see (the back wall behind the tall box). A 3-D
     // range check |q − p| < R in the hemisphere method (it loses grazing
-    // walls) read 0.096 and fails here.
+    // walls) read 0.096 and fails here. The thin-occluder compensation
+    // (c = 1) fades the walls that rise towards the camera: 0.094 / 0.072
+    // / 0.064 measured, so it is off by default.
     assert!(mae[2] <= 0.05, "hemisphere high MAE {}", mae[2]);
     assert!(mae[5] <= 0.05, "GTAO high MAE {}", mae[5]);
-    for (i, m) in mae.iter().enumerate() {
+    for (i, m) in mae[..6].iter().enumerate() {
         assert!(*m <= 0.08, "case {i}: MAE {m}");
+    }
+    for q in 0..3 {
+        assert!(
+            mae[6 + q] > mae[3 + q],
+            "quality {q}: the compensation should cost here"
+        );
     }
 }
 
@@ -203,9 +227,20 @@ fn thin_posts_ao_approaches_the_ao_integrator() {
     // seen past a post is taken as hidden behind a solid wall, so GTAO
     // darkens a band beside each post that rays pass freely, the more so
     // the more steps find it (measured MAE 0.014 / 0.021 / 0.023 against
-    // the kernel's 0.010 / 0.010 / 0.009); both stay within bounds.
+    // the kernel's 0.010 / 0.010 / 0.009). The thin-occluder compensation
+    // (c = 1) fades the posts' points towards the camera and takes GTAO
+    // below the kernel at every quality (0.0093 / 0.0088 / 0.0090).
     for (i, m) in mae.iter().enumerate() {
         assert!(*m <= 0.05, "case {i}: MAE {m}");
+    }
+    for q in 0..3 {
+        assert!(
+            mae[6 + q] < mae[q] && mae[6 + q] < mae[3 + q],
+            "quality {q}: GTAO with compensation {} vs hemisphere {}, GTAO {}",
+            mae[6 + q],
+            mae[q],
+            mae[3 + q]
+        );
     }
 }
 

@@ -228,6 +228,7 @@ impl<'a> Runner<'a> {
                 method: ao,
                 radius: Some(self.ao_radius),
                 quality: AoQuality::Medium,
+                thin_occluders: 0.0,
             },
             ..Default::default()
         };

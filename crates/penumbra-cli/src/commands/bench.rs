@@ -165,7 +165,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
         return run_raster(&args);
     }
     if args.ao.any() {
-        bail!("--ssao, --ao-radius and --ao-quality apply to --engine raster only");
+        bail!("--ssao, --ao-radius, --ao-quality and --ao-thin apply to --engine raster only");
     }
     if let Some(dirs) = &args.bake {
         if !dirs.is_empty() {

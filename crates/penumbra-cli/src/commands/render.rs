@@ -110,12 +110,35 @@ pub struct AoArgs {
     /// gtao: 2×3, 3×6, 4×8 slices × steps per side) [default: medium].
     #[arg(long, value_enum)]
     pub ao_quality: Option<AoQualityArg>,
+    /// Raster engine, --ssao gtao: thin-occluder compensation c ≥ 0
+    /// (horizon points towards the camera fade out sooner, as if their
+    /// offset along the view were 1 + c times longer): less false
+    /// occlusion behind thin objects, less true occlusion by walls that
+    /// rise towards the camera [default: 0].
+    #[arg(long, value_parser = parse_thin_occluders, allow_negative_numbers = true)]
+    pub ao_thin: Option<f64>,
+}
+
+fn parse_thin_occluders(s: &str) -> Result<f64, String> {
+    let v: f64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{s}' is not a number"))?;
+    if !(v >= 0.0 && v.is_finite()) {
+        return Err(format!(
+            "{v}: the thin-occluder compensation is a number >= 0"
+        ));
+    }
+    Ok(v)
 }
 
 impl AoArgs {
     /// Whether any of the flags was given.
     pub fn any(&self) -> bool {
-        self.ssao.is_some() || self.ao_radius.is_some() || self.ao_quality.is_some()
+        self.ssao.is_some()
+            || self.ao_radius.is_some()
+            || self.ao_quality.is_some()
+            || self.ao_thin.is_some()
     }
 
     /// The raster path's screen-space AO (`--ao-radius` and `--ao-quality`
@@ -129,6 +152,9 @@ impl AoArgs {
         if method == AoMethod::None && (self.ao_radius.is_some() || self.ao_quality.is_some()) {
             bail!("--ao-radius and --ao-quality need --ssao hemisphere|gtao");
         }
+        if method != AoMethod::Gtao && self.ao_thin.is_some() {
+            bail!("--ao-thin needs --ssao gtao (the hemisphere kernel tests points, not horizons)");
+        }
         Ok(AoSettings {
             method,
             radius: self.ao_radius.map(|r| r as f32),
@@ -137,6 +163,7 @@ impl AoArgs {
                 AoQualityArg::Medium => AoQuality::Medium,
                 AoQualityArg::High => AoQuality::High,
             },
+            thin_occluders: self.ao_thin.unwrap_or(0.0) as f32,
         })
     }
 }
@@ -280,6 +307,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
             "--ao-radius (the ray tracer's is --ao-distance)",
         ),
         (args.ao.ao_quality.is_some(), "--ao-quality"),
+        (args.ao.ao_thin.is_some(), "--ao-thin"),
         (args.env_taps.is_some(), "--env-taps"),
     ] {
         if set {

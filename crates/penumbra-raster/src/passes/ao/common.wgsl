@@ -28,7 +28,8 @@ struct GpuAoParams {
     steps: u32,
     // Levels of the view-distance MIP chain.
     mip_levels: u32,
-    _pad0: u32,
+    // GTAO's thin-occluder compensation c (AoSettings::thin_occluders).
+    thin_occluders: f32,
 }
 
 // View distance of pixels that show no surface.

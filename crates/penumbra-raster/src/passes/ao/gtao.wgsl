@@ -5,7 +5,8 @@
 // radius R projected on screen (offsets growing as s², the far ones read
 // from coarser levels of the view-distance MIP chain), each horizon
 // sample faded out around R (a band of `falloff`·R centred on R, so on
-// average it counts what a hard cut at R counts); then the cosine-weighted
+// average it counts what a hard cut at R counts; optionally sooner for
+// points towards the viewer, the thin-occluder compensation); then the cosine-weighted
 // slice integral with the projected normal (slice.wgsl). For a height
 // field this integrates exactly the visibility kA. Appended to
 // common.wgsl + surface.wgsl + slice.wgsl.
@@ -51,15 +52,20 @@ fn gtao_point(px: vec2<f32>, level: u32) -> vec3<f32> {
 }
 
 // Cosine of the elevation of sample point q above the slice's horizon
-// start, faded towards `low` (no occlusion) around R.
+// start, faded towards `low` (no occlusion) around R. With thin-occluder
+// compensation c the fade sees q − p with its component t > 0 towards the
+// viewer stretched by 1 + c: √(|q − p|² + ((1 + c)² − 1) t²).
 fn gtao_horizon_cos(p: vec3<f32>, v: vec3<f32>, q: vec3<f32>, low: f32) -> f32 {
     let h = q - p;
     let d = length(h);
     if d <= 1e-20 * ao.radius || q.z <= -AO_BACKGROUND {
         return low;
     }
+    let c = ao.thin_occluders;
+    let t = max(dot(h, v), 0.0);
+    let d_fade = sqrt(d * d + c * (2.0 + c) * t * t);
     let band = max(ao.falloff, 1e-6) * ao.radius;
-    let w = saturate((ao.radius + 0.5 * band - d) / band);
+    let w = saturate((ao.radius + 0.5 * band - d_fade) / band);
     return mix(low, dot(h, v) / d, w);
 }
 

@@ -187,7 +187,7 @@ impl ScreenSpaceAo {
             slices,
             steps,
             mip_levels: 1,
-            _pad0: 0,
+            thin_occluders: self.settings.thin_occluders,
         }
     }
 

@@ -76,6 +76,14 @@ pub struct AoSettings {
     /// `None`: [`DEFAULT_RADIUS_FRACTION`] of the scene's bounding radius.
     pub radius: Option<f32>,
     pub quality: AoQuality,
+    /// GTAO's thin-occluder compensation c ≥ 0 (0: off, the height-field
+    /// assumption): a horizon point q nearer the camera than p by t along
+    /// the view vector fades out as if its distance were
+    /// √(|q − p|² + ((1 + c)² − 1) t²). The depth buffer cannot tell a thin
+    /// post from a wall: c > 0 removes the false occlusion behind thin
+    /// objects and also fades true occluders that rise towards the camera
+    /// (docs/raster.md gives the measured trade).
+    pub thin_occluders: f32,
 }
 
 impl AoSettings {
