@@ -107,7 +107,7 @@ pub struct AoArgs {
     #[arg(long, value_parser = parse_length, allow_negative_numbers = true)]
     pub ao_radius: Option<f64>,
     /// Raster engine, --ssao: sample counts (hemisphere: 8/16/32 points;
-    /// gtao: 2×3, 3×6, 4×8 slices × steps per side) [default: medium].
+    /// gtao: 2×4, 3×6, 4×8 slices × steps per side) [default: medium].
     #[arg(long, value_enum)]
     pub ao_quality: Option<AoQualityArg>,
     /// Raster engine, --ssao gtao: thin-occluder compensation c ≥ 0

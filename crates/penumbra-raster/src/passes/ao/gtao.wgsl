@@ -2,7 +2,7 @@
 // XeGTAO is the reference implementation): per pixel, `slices` planes
 // through the view vector, turned by the pixel's entry of the 4×4 jitter
 // tile; in each, a horizon search of `steps` samples per side out to the
-// radius R projected on screen (offsets growing as s², the far ones read
+// radius R projected on screen (offsets in equal steps, the far ones read
 // from coarser levels of the view-distance MIP chain), each horizon
 // sample faded out around R (a band of `falloff`·R centred on R, so on
 // average it counts what a hard cut at R counts; optionally sooner for
@@ -14,8 +14,10 @@
 @group(0) @binding(4) var raw_ao: texture_storage_2d<r32float, write>;
 
 // Sample offsets below 2^MIP_OFFSET pixels read level 0, each doubling one
-// level further (XeGTAO's depth MIP sampling offset).
-const GTAO_MIP_OFFSET: f32 = 3.3;
+// level further (XeGTAO's depth MIP sampling offset is 3.3: one level
+// sooner, which blurs thin occluders into false ones; measured in
+// docs/raster.md).
+const GTAO_MIP_OFFSET: f32 = 4.3;
 
 // The view-space point seen at pixel coordinate px (exactly, not snapped
 // to a texel, so that it lies in the slice plane): the texel of `level`
@@ -121,7 +123,9 @@ fn gtao(@builtin(global_invocation_id) id: vec3<u32>) {
         var c0 = low0;
         for (var j = 0u; j < steps; j++) {
             let s = (f32(j) + jitter.y) / f32(steps);
-            let offset = max(s * s * r_px, 1.0 + f32(j));
+            // Equal steps out to R: XeGTAO's s² crowds the steps near p and
+            // finds the far rim of a crease late (under-occluded creases).
+            let offset = max(s * r_px, 1.0 + f32(j));
             if offset > r_px {
                 break;
             }

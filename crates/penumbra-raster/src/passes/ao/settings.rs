@@ -56,11 +56,12 @@ impl AoQuality {
         }
     }
 
-    /// GTAO (slices, steps per side of a slice): (2, 3), (3, 6), (4, 8);
-    /// XeGTAO's "High" is (3, 3).
+    /// GTAO (slices, steps per side of a slice): (2, 4), (3, 6), (4, 8);
+    /// XeGTAO's "High" is (3, 3). Low had 3 steps: Cornell box MAE 0.062
+    /// against 0.051 with 4 (docs/raster.md).
     pub fn gtao_slices_steps(self) -> (u32, u32) {
         match self {
-            AoQuality::Low => (2, 3),
+            AoQuality::Low => (2, 4),
             AoQuality::Medium => (3, 6),
             AoQuality::High => (4, 8),
         }
