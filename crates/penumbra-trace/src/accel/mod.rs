@@ -290,6 +290,30 @@ mod tests {
         (tris, rays)
     }
 
+    /// The collapse fills nodes: a node has all eight slots used unless
+    /// every child it holds is a leaf (it opens inner children while it has
+    /// room). A collapse that stopped early would still be a valid tree,
+    /// only slower: validate() and the hit tests cannot see it.
+    #[test]
+    fn wide_nodes_are_full_unless_their_children_are_leaves() {
+        for quality in [BuildQuality::Fast, BuildQuality::Medium] {
+            let (tris, _) = random_soup(2000, 3);
+            let accel = Accel::build(&tris, quality);
+            for (i, node) in accel.wide.nodes.iter().enumerate() {
+                let used: Vec<usize> = (0..wide::WIDTH).filter(|&s| node.used(s)).collect();
+                let inner = used
+                    .iter()
+                    .filter(|&&s| node.child[s] & LEAF_BIT == 0)
+                    .count();
+                assert!(
+                    used.len() == wide::WIDTH || inner == 0,
+                    "{quality:?}: node {i} uses {} slots with {inner} inner children",
+                    used.len()
+                );
+            }
+        }
+    }
+
     /// Every kernel finds the brute-force closest hit (same triangle, same
     /// distance), with and without an any-hit filter, and occlusion agrees.
     #[test]
