@@ -313,6 +313,34 @@ pub const ALPHA_OPAQUE: u32 = 0;
 pub const ALPHA_MASK: u32 = 1;
 pub const ALPHA_BLEND: u32 = 2;
 
+/// Bits of the forward shaders' `TEXTURE_SLOTS` constant, one per slot of
+/// [`GpuMaterialTextures`]: a pipeline reads only the slots its scene's
+/// materials fill (a software rasteriser runs both sides of a branch, so
+/// lookups no material needs would still cost every fragment).
+pub const SLOT_ALBEDO: u32 = 1 << 0;
+pub const SLOT_METALLIC_ROUGHNESS: u32 = 1 << 1;
+pub const SLOT_EMISSION: u32 = 1 << 2;
+pub const SLOT_NORMAL: u32 = 1 << 3;
+pub const SLOT_OCCLUSION: u32 = 1 << 4;
+pub const SLOT_ALPHA: u32 = 1 << 5;
+
+impl GpuMaterialTextures {
+    /// The `SLOT_*` bits of the slots that hold a texture.
+    pub fn slot_mask(&self) -> u32 {
+        [
+            (self.albedo, SLOT_ALBEDO),
+            (self.metallic_roughness, SLOT_METALLIC_ROUGHNESS),
+            (self.emission, SLOT_EMISSION),
+            (self.normal, SLOT_NORMAL),
+            (self.occlusion, SLOT_OCCLUSION),
+            (self.alpha_texture, SLOT_ALPHA),
+        ]
+        .into_iter()
+        .filter(|&(t, _)| t != NO_TEXTURE)
+        .fold(0, |m, (_, bit)| m | bit)
+    }
+}
+
 impl Default for GpuMaterialTextures {
     fn default() -> Self {
         Self {
@@ -624,6 +652,30 @@ macro_rules! host_layout {
             fields: vec![$((stringify!($field), offset_of!($ty, $field))),*],
         }
     };
+}
+
+/// Constants the host and the shaders share, as the shaders name them.
+pub fn gpu_constants() -> Vec<(&'static str, u32)> {
+    use crate::textures::TexelFormat;
+    vec![
+        ("NO_TEXTURE", NO_TEXTURE),
+        ("NO_VERTEX_DATA", NO_VERTEX_DATA),
+        ("WRAP_REPEAT", WRAP_REPEAT),
+        ("WRAP_CLAMP", WRAP_CLAMP),
+        ("WRAP_MIRROR", WRAP_MIRROR),
+        ("TEXEL_HALF", TexelFormat::Half as u32),
+        ("TEXEL_SRGB8", TexelFormat::Srgb8 as u32),
+        ("TEXEL_UNORM8", TexelFormat::Unorm8 as u32),
+        ("ALPHA_OPAQUE", ALPHA_OPAQUE),
+        ("ALPHA_MASK", ALPHA_MASK),
+        ("ALPHA_BLEND", ALPHA_BLEND),
+        ("SLOT_ALBEDO", SLOT_ALBEDO),
+        ("SLOT_METALLIC_ROUGHNESS", SLOT_METALLIC_ROUGHNESS),
+        ("SLOT_EMISSION", SLOT_EMISSION),
+        ("SLOT_NORMAL", SLOT_NORMAL),
+        ("SLOT_OCCLUSION", SLOT_OCCLUSION),
+        ("SLOT_ALPHA", SLOT_ALPHA),
+    ]
 }
 
 /// Every struct the host uploads, as the shaders name them.

@@ -35,6 +35,7 @@ use crate::shadow_map::{
     SHADOW_MAP_FORMAT, ShadowMapFrame,
 };
 use crate::shadow_volume::{ShadowVolumes, VolumeFrame};
+use crate::textures::TextureFeatures;
 use crate::timing::{GpuTimer, PassTiming};
 use glam::Vec3;
 use penumbra_image::Image;
@@ -248,9 +249,18 @@ fn build_pipeline(
     })
 }
 
-/// The shading pipelines specialised to the material models of a scene
-/// (the `MATERIAL_MODELS` mask) and to the presence of bakes
-/// (`BAKED_MAPS`).
+/// What the shading pipelines are specialised to: the material models of
+/// a scene (the `MATERIAL_MODELS` mask), what its textures use
+/// (`TEXTURE_SLOTS`, `TEXEL_FORMATS`, `WRAP_MODES`) and the presence of
+/// bakes (`BAKED_MAPS`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+struct ShadingKey {
+    models: u32,
+    textures: TextureFeatures,
+    baked: bool,
+}
+
+/// The shading pipelines of one [`ShadingKey`].
 #[derive(Debug)]
 struct ShadingPipelines {
     forward: wgpu::RenderPipeline,
@@ -279,7 +289,7 @@ pub struct ForwardRenderer {
     light_stencil: wgpu::StencilState,
     /// Forward and one-light pipelines by (material-model mask, bakes),
     /// made on first use.
-    shading: Mutex<HashMap<(u32, bool), Arc<ShadingPipelines>>>,
+    shading: Mutex<HashMap<ShadingKey, Arc<ShadingPipelines>>>,
     /// Group 2: the baked maps.
     bake_layout: wgpu::BindGroupLayout,
     /// Writes the looked-up bake values (`ao`, `irradiance`) as AOVs.
@@ -746,31 +756,26 @@ impl ForwardRenderer {
         })
     }
 
-    /// The forward and one-light pipelines for the material models in
-    /// `models` (a `1 << MODEL_*` mask), with or without bake lookups, made
-    /// once per key.
-    fn shading_pipelines(
-        &self,
-        device: &wgpu::Device,
-        models: u32,
-        baked: bool,
-    ) -> Arc<ShadingPipelines> {
+    /// The forward, blend and one-light pipelines of `key`, made once per
+    /// key.
+    fn shading_pipelines(&self, device: &wgpu::Device, key: ShadingKey) -> Arc<ShadingPipelines> {
         let mut cache = self.shading.lock().unwrap_or_else(|e| e.into_inner());
         cache
-            .entry((models, baked))
+            .entry(key)
             .or_insert_with(|| {
                 let shadow_maps = if self.options.shadows == ShadowMode::Map {
                     1.0
                 } else {
                     0.0
                 };
-                let constants = [
-                    ("MATERIAL_MODELS", models as f64),
+                let mut constants = vec![
+                    ("MATERIAL_MODELS", key.models as f64),
                     ("SHADOW_MAPS", shadow_maps),
-                    ("BAKED_MAPS", baked as u32 as f64),
+                    ("BAKED_MAPS", key.baked as u32 as f64),
                     ("SCREEN_AO", self.ao.is_some() as u32 as f64),
                     ("ENV_LOBE_TAPS", self.options.environment_taps as f64),
                 ];
+                constants.extend(key.textures.constants());
                 let add = wgpu::BlendComponent {
                     src_factor: wgpu::BlendFactor::One,
                     dst_factor: wgpu::BlendFactor::One,
@@ -997,7 +1002,14 @@ impl ForwardRenderer {
         }
         let baked = !bakes.is_empty();
         let gpu = SceneGpu::upload(device, scene, camera, width, height, baked);
-        let shading = self.shading_pipelines(device, gpu.data.model_mask(), baked);
+        let shading = self.shading_pipelines(
+            device,
+            ShadingKey {
+                models: gpu.data.model_mask(),
+                textures: gpu.texture_features,
+                baked,
+            },
+        );
         let mut warnings = gpu.data.warnings.clone();
         warnings.extend(bake_warnings(scene, bakes));
         let lightmaps = LightmapFrame::new(ctx, &self.bake_layout, bakes, scene, &gpu.data)?;

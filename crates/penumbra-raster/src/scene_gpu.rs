@@ -6,7 +6,7 @@
 use crate::camera::gpu_camera;
 use crate::gpu::{GpuInstance, GpuLight, GpuPassParams, NO_VERTEX_DATA, PASS_PARAMS_STRIDE};
 use crate::scene_data::SceneData;
-use crate::textures::TextureTable;
+use crate::textures::{TextureFeatures, TextureTable};
 use glam::Vec3;
 use penumbra_scene::Scene;
 use penumbra_scene::camera::Camera;
@@ -191,6 +191,8 @@ pub(crate) struct SceneGpu {
     pub textures: wgpu::Buffer,
     pub texels: wgpu::Buffer,
     pub material_textures: wgpu::Buffer,
+    /// What the textures use ([`TextureTable::features`]).
+    pub texture_features: TextureFeatures,
     /// Per mesh (the scene's, then the area lights' emitters); `None` for
     /// meshes without triangles.
     pub meshes: Vec<Option<GpuMesh>>,
@@ -395,6 +397,7 @@ impl SceneGpu {
                 bytemuck::cast_slice(&material_textures),
                 storage,
             ),
+            texture_features: table.features(),
             meshes,
             draws,
             blended,

@@ -178,6 +178,17 @@ pub fn with_library(entry_points: &str) -> String {
 /// derived from the shader (`layout: None`): for passes and test kernels
 /// whose bind groups come from `get_bind_group_layout`.
 pub fn compute_pipeline(device: &wgpu::Device, source: &str, entry: &str) -> wgpu::ComputePipeline {
+    specialised_compute_pipeline(device, source, entry, &[])
+}
+
+/// [`compute_pipeline`] with values for the source's pipeline-overridable
+/// constants.
+pub fn specialised_compute_pipeline(
+    device: &wgpu::Device,
+    source: &str,
+    entry: &str,
+    constants: &[(&str, f64)],
+) -> wgpu::ComputePipeline {
     let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some(entry),
         source: wgpu::ShaderSource::Wgsl(source.into()),
@@ -187,7 +198,10 @@ pub fn compute_pipeline(device: &wgpu::Device, source: &str, entry: &str) -> wgp
         layout: None,
         module: &module,
         entry_point: Some(entry),
-        compilation_options: Default::default(),
+        compilation_options: wgpu::PipelineCompilationOptions {
+            constants,
+            ..Default::default()
+        },
         cache: None,
     })
 }

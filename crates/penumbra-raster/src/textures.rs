@@ -162,7 +162,42 @@ pub struct TextureTable {
     pub warnings: Vec<String>,
 }
 
+/// What a scene's textures use, as the masks of the forward shaders'
+/// pipeline constants: a pipeline keeps only the lookup code its scene
+/// needs (a software rasteriser runs every branch some fragment of a SIMD
+/// batch could take, so unused code still costs every fragment).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct TextureFeatures {
+    /// `TEXTURE_SLOTS`: the `SLOT_*` bits of the slots some material fills.
+    pub slots: u32,
+    /// `TEXEL_FORMATS`: bit `1 << format` of each [`TexelFormat`] stored.
+    pub formats: u32,
+    /// `WRAP_MODES`: bit `1 << mode` of each `WRAP_*` mode read.
+    pub wraps: u32,
+}
+
+impl TextureFeatures {
+    /// The pipeline constants that specialise the shaders to these features.
+    pub fn constants(&self) -> [(&'static str, f64); 3] {
+        [
+            ("TEXTURE_SLOTS", self.slots as f64),
+            ("TEXEL_FORMATS", self.formats as f64),
+            ("WRAP_MODES", self.wraps as f64),
+        ]
+    }
+}
+
 impl TextureTable {
+    /// The features of the table's textures (none without textures).
+    pub fn features(&self) -> TextureFeatures {
+        let real = self.textures.iter().filter(|t| t.width > 0 && t.height > 0);
+        TextureFeatures {
+            slots: self.materials.iter().fold(0, |m, t| m | t.slot_mask()),
+            formats: real.clone().fold(0, |m, t| m | 1 << t.format),
+            wraps: real.fold(0, |m, t| m | 1 << t.wrap_u | 1 << t.wrap_v),
+        }
+    }
+
     /// Packs the textures of `scene`'s materials into at most
     /// `budget_bytes` of texels: when the chains do not fit, the largest
     /// texture loses its finest level until they do (with a warning).

@@ -5,7 +5,7 @@
 mod common;
 
 use naga::proc::Layouter;
-use penumbra_raster::gpu::{HostLayout, gpu_structs};
+use penumbra_raster::gpu::{HostLayout, gpu_constants, gpu_structs};
 use penumbra_raster::shaders::{all_modules, forward_source, with_library};
 use std::collections::BTreeMap;
 
@@ -137,4 +137,26 @@ fn layout_check_detects_a_mismatch() {
     };
     let r = std::panic::catch_unwind(|| check(&[wrong], &forward_source()));
     assert!(r.is_err());
+}
+
+/// The constants the host shares with the forward shaders have the host's
+/// values there.
+#[test]
+fn shared_constants_match_the_host() {
+    let source = forward_source();
+    let module = naga::front::wgsl::parse_str(&source)
+        .unwrap_or_else(|e| panic!("WGSL does not parse: {}", e.emit_to_string(&source)));
+    for (name, value) in gpu_constants() {
+        let constant = module
+            .constants
+            .iter()
+            .map(|(_, c)| c)
+            .find(|c| c.name.as_deref() == Some(name))
+            .unwrap_or_else(|| panic!("no WGSL constant {name}"));
+        let wgsl = match module.global_expressions[constant.init] {
+            naga::Expression::Literal(naga::Literal::U32(v)) => v,
+            ref e => panic!("{name}: not a u32 literal: {e:?}"),
+        };
+        assert_eq!(wgsl, value, "{name}: WGSL vs host");
+    }
 }

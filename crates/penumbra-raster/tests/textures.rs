@@ -288,6 +288,125 @@ fn wgsl_lookups_match_the_cpu_and_the_mip_levels() {
     );
 }
 
+/// A texture of 8-bit texels: sRGB-encoded (`srgb`) or linear levels.
+fn eight_bit_texture(rng: &mut TestRng, srgb: bool, wrap: [Wrap; 2]) -> Texture {
+    let level = |v: f32| {
+        let q = (v * 255.0).floor() / 255.0;
+        if srgb { srgb_to_linear(q) } else { q }
+    };
+    Texture {
+        texels: (0..6 * 5)
+            .map(|_| Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()).map(level))
+            .collect(),
+        ..random_texture(rng, 6, 5, wrap)
+    }
+}
+
+/// The lookups of pipelines specialised to a scene's texel formats and
+/// wrap modes (`TextureFeatures`: a single format or mode is read without
+/// a test, absent ones are dropped) give Texture::sample at level 0, for
+/// tables of one format and one mode, of two, and of all three.
+#[test]
+fn specialised_lookups_match_the_cpu() {
+    let Some(ctx) = common::gpu("specialised_lookups_match_the_cpu") else {
+        return;
+    };
+    use Wrap::{ClampToEdge as C, MirroredRepeat as M, Repeat as R};
+    let mut rng = TestRng::new(72);
+    let srgb8 = 1 << TexelFormat::Srgb8 as u32;
+    let unorm8 = 1 << TexelFormat::Unorm8 as u32;
+    let half = 1 << TexelFormat::Half as u32;
+    let (repeat, clamp, mirror) = (1 << 0, 1 << 1, 1 << 2);
+    let tables: Vec<(Vec<Texture>, u32, u32)> = vec![
+        (
+            vec![eight_bit_texture(&mut rng, true, [C, C])],
+            srgb8,
+            clamp,
+        ),
+        (
+            vec![eight_bit_texture(&mut rng, false, [M, M])],
+            unorm8,
+            mirror,
+        ),
+        (
+            vec![random_texture(&mut rng, 5, 4, [R, C])],
+            half,
+            repeat | clamp,
+        ),
+        (
+            vec![
+                eight_bit_texture(&mut rng, true, [M, R]),
+                eight_bit_texture(&mut rng, false, [C, C]),
+            ],
+            srgb8 | unorm8,
+            repeat | clamp | mirror,
+        ),
+        (
+            vec![
+                eight_bit_texture(&mut rng, false, [C, M]),
+                random_texture(&mut rng, 3, 7, [M, C]),
+            ],
+            unorm8 | half,
+            clamp | mirror,
+        ),
+    ];
+    let kernel = with_library(&format!("{SCENE_WGSL}\n{TEXTURES_WGSL}\n{LOOKUP_KERNEL}"));
+    for (k, (textures, formats, wraps)) in tables.into_iter().enumerate() {
+        let mut scene = Scene::default();
+        for (t, texture) in textures.into_iter().enumerate() {
+            scene.textures.push(texture);
+            let mut m = Material::lambert(format!("m{t}"), Vec3::ONE);
+            m.albedo_texture = Some(t);
+            scene.add_material(m);
+        }
+        let table = TextureTable::new(&scene, u64::MAX);
+        let features = table.features();
+        assert_eq!(
+            (features.formats, features.wraps),
+            (formats, wraps),
+            "table {k}"
+        );
+        let mut cases = Vec::new();
+        let mut expected = Vec::new();
+        for i in 0..1200 {
+            let t = i % scene.textures.len();
+            let uv = Vec2::new(rng.next_f32() * 5.0 - 2.5, rng.next_f32() * 5.0 - 2.5);
+            cases.push(Lookup {
+                uv: uv.to_array(),
+                texture: table.materials[t].albedo,
+                ..Default::default()
+            });
+            expected.push(scene.textures[t].sample(uv));
+        }
+        let out: Vec<[f32; 4]> = common::dispatch_specialised(
+            &ctx,
+            &features.constants(),
+            &kernel,
+            "eval_lookup",
+            (40, bytemuck::cast_slice(&cases)),
+            cases.len(),
+            &[
+                (27, bytemuck::cast_slice(&table.textures)),
+                (28, bytemuck::cast_slice(&table.texels)),
+            ],
+        );
+        let bad: Vec<_> = out
+            .iter()
+            .zip(&expected)
+            .enumerate()
+            .filter(|(_, (o, e))| !near(Vec3::new(o[0], o[1], o[2]), **e))
+            .map(|(i, (o, e))| (cases[i].uv, o[..3].to_vec(), *e))
+            .collect();
+        assert!(
+            bad.is_empty(),
+            "table {k}: {} of {} lookups differ, first: {:?}",
+            bad.len(),
+            cases.len(),
+            &bad[..bad.len().min(4)]
+        );
+    }
+}
+
 /// A glTF sample, its camera head-on (orthographic along −z, the model
 /// filling the image), lit by a directional light from the camera of
 /// irradiance π (a white Lambertian surface facing it has radiance 1).

@@ -49,6 +49,24 @@ struct GpuMaterialTextures {
     _pad0: u32,
 }
 
+// SLOT_* bits (gpu.rs) of the texture slots some material of the scene
+// fills: the lookups of the others are left out of the pipeline, since a
+// software rasteriser (lavapipe) runs every branch a lane of the SIMD
+// batch could take, untextured fragments included.
+override TEXTURE_SLOTS: u32 = 0xffffffffu;
+const SLOT_ALBEDO: u32 = 1u;
+const SLOT_METALLIC_ROUGHNESS: u32 = 2u;
+const SLOT_EMISSION: u32 = 4u;
+const SLOT_NORMAL: u32 = 8u;
+const SLOT_OCCLUSION: u32 = 16u;
+const SLOT_ALPHA: u32 = 32u;
+
+// Whether texture `index` of the slot `slot` (a SLOT_* bit) is read: the
+// pipeline has the slot and the material fills it.
+fn has_texture(slot: u32, index: u32) -> bool {
+    return (TEXTURE_SLOTS & slot) != 0u && index != NO_TEXTURE;
+}
+
 const ALPHA_OPAQUE: u32 = 0u;
 const ALPHA_MASK: u32 = 1u;
 const ALPHA_BLEND: u32 = 2u;
@@ -62,20 +80,29 @@ const TEXEL_HALF: u32 = 0u;
 const TEXEL_SRGB8: u32 = 1u;
 const TEXEL_UNORM8: u32 = 2u;
 
+// Bits 1 << WRAP_* of the wrap modes and 1 << TEXEL_* of the formats the
+// scene's textures use (TEXTURE_SLOTS says why).
+override WRAP_MODES: u32 = 0xffffffffu;
+override TEXEL_FORMATS: u32 = 0xffffffffu;
+
+// Whether a texture of the value `value` takes the branch of `choice`, one
+// of the values the pipeline's mask `mask` allows: always where it is the
+// only one, never where the mask lacks it.
+fn takes(mask: u32, choice: u32, value: u32) -> bool {
+    let bit = 1u << choice;
+    return (mask & bit) != 0u && (value == choice || mask == bit);
+}
+
 // Wrap::index: the texel for index i of an axis of n texels.
 fn wrap_texel(mode: u32, i: i32, n: i32) -> i32 {
-    switch mode {
-        case WRAP_CLAMP: {
-            return clamp(i, 0, n - 1);
-        }
-        case WRAP_MIRROR: {
-            let m = ((i % (2 * n)) + 2 * n) % (2 * n);
-            return select(2 * n - 1 - m, m, m < n);
-        }
-        default: {
-            return ((i % n) + n) % n;
-        }
+    if takes(WRAP_MODES, WRAP_CLAMP, mode) {
+        return clamp(i, 0, n - 1);
     }
+    if takes(WRAP_MODES, WRAP_MIRROR, mode) {
+        let m = ((i % (2 * n)) + 2 * n) % (2 * n);
+        return select(2 * n - 1 - m, m, m < n);
+    }
+    return ((i % n) + n) % n;
 }
 
 struct TextureLevel {
@@ -125,17 +152,13 @@ fn texel_at(t: GpuTexture, lv: TextureLevel, x: i32, y: i32) -> vec3<f32> {
     let yi = wrap_texel(t.wrap_v, y, lv.height);
     let i = lv.first + u32(yi * lv.width + xi) * texel_words(t.format);
     let w = texels[i];
-    switch t.format {
-        case TEXEL_SRGB8: {
-            return srgb_to_linear3(unpack4x8unorm(w).xyz);
-        }
-        case TEXEL_UNORM8: {
-            return unpack4x8unorm(w).xyz;
-        }
-        default: {
-            return vec3<f32>(half_to_f32(w), half_to_f32(w >> 16u), half_to_f32(texels[i + 1u]));
-        }
+    if takes(TEXEL_FORMATS, TEXEL_SRGB8, t.format) {
+        return srgb_to_linear3(unpack4x8unorm(w).xyz);
     }
+    if takes(TEXEL_FORMATS, TEXEL_UNORM8, t.format) || (TEXEL_FORMATS & (1u << TEXEL_HALF)) == 0u {
+        return unpack4x8unorm(w).xyz;
+    }
+    return vec3<f32>(half_to_f32(w), half_to_f32(w >> 16u), half_to_f32(texels[i + 1u]));
 }
 
 // Bilinear lookup of one level at transformed coordinates st (texel
@@ -265,7 +288,7 @@ fn perturb_normal(texel: vec3<f32>, scale: f32, n: vec3<f32>, t: vec4<f32>) -> v
 // as the CPU does: kept only on the geometric normal's side.
 fn normal_mapped(material: u32, tc: TexCoords, t: vec4<f32>, ns_front: vec3<f32>, ng_front: vec3<f32>) -> vec3<f32> {
     let tx = material_textures[material];
-    if tx.normal == NO_TEXTURE || t.w == 0.0 {
+    if !has_texture(SLOT_NORMAL, tx.normal) || t.w == 0.0 {
         return ns_front;
     }
     let mapped = perturb_normal(lookup_texture(tx.normal, tc), tx.normal_scale, ns_front, t);
@@ -276,7 +299,7 @@ fn normal_mapped(material: u32, tc: TexCoords, t: vec4<f32>, ns_front: vec3<f32>
 // environment term of material `material` (1 without the texture).
 fn baked_occlusion(material: u32, tc: TexCoords) -> f32 {
     let tx = material_textures[material];
-    if tx.occlusion == NO_TEXTURE {
+    if !has_texture(SLOT_OCCLUSION, tx.occlusion) {
         return 1.0;
     }
     return 1.0 + tx.occlusion_strength * (lookup_texture(tx.occlusion, tc).x - 1.0);
@@ -289,7 +312,7 @@ fn coverage(material: u32, tc: TexCoords) -> f32 {
     if tx.alpha_mode == ALPHA_OPAQUE {
         return 1.0;
     }
-    if tx.alpha_texture == NO_TEXTURE {
+    if !has_texture(SLOT_ALPHA, tx.alpha_texture) {
         return tx.alpha_factor;
     }
     return tx.alpha_factor * lookup_texture(tx.alpha_texture, tc).x;
@@ -318,10 +341,10 @@ fn textured_material(material: u32, tc: TexCoords, color: vec3<f32>) -> Textured
     var env = environment_materials[material];
     let tx = material_textures[material];
     var tint = color;
-    if tx.albedo != NO_TEXTURE {
+    if has_texture(SLOT_ALBEDO, tx.albedo) {
         tint *= lookup_texture(tx.albedo, tc);
     }
-    if tx.emission != NO_TEXTURE {
+    if has_texture(SLOT_EMISSION, tx.emission) {
         mat.emission *= lookup_texture(tx.emission, tc);
     }
     switch mat.model {
@@ -335,7 +358,7 @@ fn textured_material(material: u32, tc: TexCoords, color: vec3<f32>) -> Textured
         }
         case MODEL_METALLIC_ROUGHNESS: {
             mat.base_color *= tint;
-            if tx.metallic_roughness != NO_TEXTURE {
+            if has_texture(SLOT_METALLIC_ROUGHNESS, tx.metallic_roughness) {
                 let g_b = lookup_texture(tx.metallic_roughness, tc);
                 mat.roughness = clamp(mat.roughness * g_b.y, 0.0, 1.0);
                 mat.metallic = clamp(mat.metallic * g_b.z, 0.0, 1.0);

@@ -31,13 +31,27 @@ pub fn dispatch<T: bytemuck::Pod>(
     ctx: &GpuContext,
     source: &str,
     entry: &str,
+    input: (u32, &[u8]),
+    count: usize,
+    extra: &[(u32, &[u8])],
+) -> Vec<T> {
+    dispatch_specialised(ctx, &[], source, entry, input, count, extra)
+}
+
+/// [`dispatch`] with values for the kernel's pipeline-overridable constants.
+pub fn dispatch_specialised<T: bytemuck::Pod>(
+    ctx: &GpuContext,
+    constants: &[(&str, f64)],
+    source: &str,
+    entry: &str,
     (input_binding, input): (u32, &[u8]),
     count: usize,
     extra: &[(u32, &[u8])],
 ) -> Vec<T> {
     use wgpu::util::DeviceExt;
     let device = &ctx.device;
-    let pipeline = penumbra_raster::shaders::compute_pipeline(device, source, entry);
+    let pipeline =
+        penumbra_raster::shaders::specialised_compute_pipeline(device, source, entry, constants);
     let out_size = (count * size_of::<T>()) as u64;
     let storage = |label: &str, contents: &[u8]| {
         device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
