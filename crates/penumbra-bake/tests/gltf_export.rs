@@ -343,7 +343,7 @@ fn assorted_scene() -> Scene {
             name: "checker".into(),
             width: 2,
             height: 2,
-            texels: vec![Rgb::ONE, Rgb::splat(0.2), Rgb::splat(0.2), Rgb::ONE],
+            texels: vec![Rgb::ONE, Rgb::splat(0.2), Rgb::splat(0.2), Rgb::ONE].into(),
             wrap: Default::default(),
             uv_transform: glam::Affine2::IDENTITY,
             uv_set: 0,

@@ -119,7 +119,7 @@ pub fn mip_chain(t: &Texture) -> Vec<MipLevel> {
     let mut levels = vec![MipLevel {
         width: t.width,
         height: t.height,
-        texels: t.texels.clone(),
+        texels: t.texels.to_linear(),
     }];
     while let Some(last) = levels.last().filter(|l| l.width > 1 || l.height > 1) {
         let next = downsample(last);
@@ -328,7 +328,7 @@ mod tests {
             name: "t".into(),
             width,
             height,
-            texels,
+            texels: texels.into(),
             wrap: [Wrap::Repeat; 2],
             uv_transform: Affine2::IDENTITY,
             uv_set: 0,

@@ -171,6 +171,38 @@ fn near(gpu: Vec3, cpu: Vec3) -> bool {
     (gpu - cpu).abs().max_element() <= 2e-3 * cpu.abs().max_element().max(1.0)
 }
 
+/// The lookups `cases` in `table` made by WGSL `sample_texture` (in a
+/// pipeline with the given constants) that are not `near` the `expected`
+/// values: (index, case, GPU value, expected value).
+fn mismatches(
+    ctx: &GpuContext,
+    constants: &[(&str, f64)],
+    table: &TextureTable,
+    cases: &[Lookup],
+    expected: &[Vec3],
+) -> Vec<(usize, Lookup, Vec3, Vec3)> {
+    let source = with_library(&format!("{SCENE_WGSL}\n{TEXTURES_WGSL}\n{LOOKUP_KERNEL}"));
+    let out: Vec<[f32; 4]> = common::dispatch_specialised(
+        ctx,
+        constants,
+        &source,
+        "eval_lookup",
+        (40, bytemuck::cast_slice(cases)),
+        cases.len(),
+        &[
+            (27, bytemuck::cast_slice(&table.textures)),
+            (28, bytemuck::cast_slice(&table.texels)),
+        ],
+    );
+    out.iter()
+        .map(|o| Vec3::new(o[0], o[1], o[2]))
+        .zip(expected)
+        .enumerate()
+        .filter(|&(_, (g, e))| !near(g, *e))
+        .map(|(i, (g, e))| (i, cases[i], g, *e))
+        .collect()
+}
+
 #[test]
 fn wgsl_lookups_match_the_cpu_and_the_mip_levels() {
     let Some(ctx) = common::gpu("wgsl_lookups_match_the_cpu_and_the_mip_levels") else {
@@ -236,7 +268,7 @@ fn wgsl_lookups_match_the_cpu_and_the_mip_levels() {
     let level = |l: usize| Texture {
         width: chain[l].width,
         height: chain[l].height,
-        texels: chain[l].texels.clone(),
+        texels: chain[l].texels.clone().into(),
         ..big.clone()
     };
     let mean = big.texels.iter().sum::<Vec3>() / big.texels.len() as f32;
@@ -260,25 +292,7 @@ fn wgsl_lookups_match_the_cpu_and_the_mip_levels() {
         });
         expected.push(value);
     }
-    let source = with_library(&format!("{SCENE_WGSL}\n{TEXTURES_WGSL}\n{LOOKUP_KERNEL}"));
-    let out: Vec<[f32; 4]> = common::dispatch(
-        &ctx,
-        &source,
-        "eval_lookup",
-        (40, bytemuck::cast_slice(&cases)),
-        cases.len(),
-        &[
-            (27, bytemuck::cast_slice(&table.textures)),
-            (28, bytemuck::cast_slice(&table.texels)),
-        ],
-    );
-    let mut bad = Vec::new();
-    for (i, (o, e)) in out.iter().zip(&expected).enumerate() {
-        let g = Vec3::new(o[0], o[1], o[2]);
-        if !near(g, *e) {
-            bad.push((i, cases[i], g, *e));
-        }
-    }
+    let bad = mismatches(&ctx, &[], &table, &cases, &expected);
     assert!(
         bad.is_empty(),
         "{} of {} lookups differ ({level0} at level 0), first: {:?}",
@@ -350,7 +364,6 @@ fn specialised_lookups_match_the_cpu() {
             clamp | mirror,
         ),
     ];
-    let kernel = with_library(&format!("{SCENE_WGSL}\n{TEXTURES_WGSL}\n{LOOKUP_KERNEL}"));
     for (k, (textures, formats, wraps)) in tables.into_iter().enumerate() {
         let mut scene = Scene::default();
         for (t, texture) in textures.into_iter().enumerate() {
@@ -378,25 +391,7 @@ fn specialised_lookups_match_the_cpu() {
             });
             expected.push(scene.textures[t].sample(uv));
         }
-        let out: Vec<[f32; 4]> = common::dispatch_specialised(
-            &ctx,
-            &features.constants(),
-            &kernel,
-            "eval_lookup",
-            (40, bytemuck::cast_slice(&cases)),
-            cases.len(),
-            &[
-                (27, bytemuck::cast_slice(&table.textures)),
-                (28, bytemuck::cast_slice(&table.texels)),
-            ],
-        );
-        let bad: Vec<_> = out
-            .iter()
-            .zip(&expected)
-            .enumerate()
-            .filter(|(_, (o, e))| !near(Vec3::new(o[0], o[1], o[2]), **e))
-            .map(|(i, (o, e))| (cases[i].uv, o[..3].to_vec(), *e))
-            .collect();
+        let bad = mismatches(&ctx, &features.constants(), &table, &cases, &expected);
         assert!(
             bad.is_empty(),
             "table {k}: {} of {} lookups differ, first: {:?}",
@@ -672,7 +667,7 @@ fn occlusion_maps_scale_the_environment_term_only() {
             name: "ao".into(),
             width: 4,
             height: 1,
-            texels: vec![Vec3::splat(0.25), Vec3::splat(0.25), Vec3::ONE, Vec3::ONE],
+            texels: vec![Vec3::splat(0.25), Vec3::splat(0.25), Vec3::ONE, Vec3::ONE].into(),
             wrap: [Wrap::ClampToEdge; 2],
             uv_transform: Affine2::IDENTITY,
             uv_set,
@@ -820,15 +815,18 @@ fn metallic_roughness_textures_match_the_cpu() {
     let mut rng = TestRng::new(5);
     let mut scene = Scene::default();
     let mut base = random_texture(&mut rng, 4, 4, [Wrap::ClampToEdge; 2]);
-    base.texels.iter_mut().for_each(|t| *t = 0.2 + 0.8 * *t);
+    base.texels = base.texels.iter().map(|t| 0.2 + 0.8 * t).collect();
     scene.textures.push(base);
     let mut mr = random_texture(&mut rng, 4, 4, [Wrap::ClampToEdge; 2]);
     // Roughness 0.25..1, metallic 0 or 1 in a checker, 0.5 on the diagonal.
-    for (i, t) in mr.texels.iter_mut().enumerate() {
-        let (x, y) = (i % 4, i / 4);
-        t.y = 0.25 + 0.75 * t.y;
-        t.z = if x == y { 0.5 } else { ((x + y) % 2) as f32 };
-    }
+    mr.texels = (mr.texels.iter().enumerate())
+        .map(|(i, mut t)| {
+            let (x, y) = (i % 4, i / 4);
+            t.y = 0.25 + 0.75 * t.y;
+            t.z = if x == y { 0.5 } else { ((x + y) % 2) as f32 };
+            t
+        })
+        .collect();
     scene.textures.push(mr);
     let mut m = Material {
         bsdf: Bsdf::MetallicRoughness(MetallicRoughness::new(Vec3::ONE, 1.0, 1.0)),

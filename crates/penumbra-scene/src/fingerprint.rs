@@ -205,7 +205,7 @@ mod tests {
             name: "t".into(),
             width: 1,
             height: 1,
-            texels: vec![Vec3::ONE],
+            texels: vec![Vec3::ONE].into(),
             wrap: Default::default(),
             uv_transform: glam::Affine2::IDENTITY,
             uv_set: 0,
@@ -215,7 +215,7 @@ mod tests {
         let mut other_set = texel.clone();
         other_set.textures[0].uv_set = 1;
         assert_ne!(b, fingerprint(&other_set));
-        texel.textures[0].texels[0].x = 0.5;
+        texel.textures[0].texels = vec![Vec3::new(0.5, 1.0, 1.0)].into();
         assert_ne!(b, fingerprint(&texel));
     }
 }

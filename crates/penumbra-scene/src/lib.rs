@@ -32,4 +32,4 @@ pub use mesh::{Instance, Mesh, MeshId};
 pub use plane::Plane;
 pub use scene::{NamedCamera, Scene, SceneAreaLight, SceneLight};
 pub use settings::{IntegratorKind, RenderSettings};
-pub use texture::{Texture, TextureId};
+pub use texture::{Texels, Texture, TextureId};

@@ -1,8 +1,11 @@
 //! Textures in linear RGB, sampled bilinearly with the glTF sampler's wrap
-//! modes per axis (REPEAT, CLAMP_TO_EDGE, MIRRORED_REPEAT).
+//! modes per axis (REPEAT, CLAMP_TO_EDGE, MIRRORED_REPEAT). 8-bit sources
+//! keep their bytes ([`Texels`]), decoded exactly on every read.
 
 use glam::{Affine2, Vec2};
 use penumbra_shading::Rgb;
+use penumbra_shading::color::srgb_to_linear;
+use std::sync::LazyLock;
 
 /// Index of a texture in [`crate::Scene::textures`].
 pub type TextureId = usize;
@@ -39,14 +42,93 @@ impl Wrap {
     }
 }
 
-/// A linear-RGB image (sRGB-encoded inputs are decoded on load).
+/// The texels of a texture, row-major, row 0 at the top. 8-bit sources
+/// are kept as their bytes (4 per texel, a third of linear f32 RGB: the
+/// lookups of a path tracer miss the caches less) and decoded on read to
+/// exactly the values a decode on load gives.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Texels {
+    /// Linear RGB values.
+    Linear(Vec<Rgb>),
+    /// sRGB-encoded bytes r, g, b (the fourth unused): `srgb_to_linear(b / 255)`.
+    Srgb8(Vec<[u8; 4]>),
+    /// Linear bytes r, g, b (the fourth unused): `b / 255`.
+    Unorm8(Vec<[u8; 4]>),
+}
+
+/// `srgb_to_linear(i / 255)` for every byte i.
+static SRGB8_LEVELS: LazyLock<[f32; 256]> =
+    LazyLock::new(|| std::array::from_fn(|i| srgb_to_linear(i as f32 / 255.0)));
+
+/// The linear value of an sRGB-encoded byte.
+pub fn srgb8_to_linear(b: u8) -> f32 {
+    SRGB8_LEVELS[b as usize]
+}
+
+fn decode_srgb8(levels: &[f32; 256], b: [u8; 4]) -> Rgb {
+    Rgb::new(
+        levels[b[0] as usize],
+        levels[b[1] as usize],
+        levels[b[2] as usize],
+    )
+}
+
+fn decode_unorm8(b: [u8; 4]) -> Rgb {
+    Rgb::new(b[0] as f32, b[1] as f32, b[2] as f32) / 255.0
+}
+
+impl Texels {
+    pub fn len(&self) -> usize {
+        match self {
+            Texels::Linear(t) => t.len(),
+            Texels::Srgb8(t) | Texels::Unorm8(t) => t.len(),
+        }
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Texel `i` in linear RGB.
+    pub fn get(&self, i: usize) -> Rgb {
+        match self {
+            Texels::Linear(t) => t[i],
+            Texels::Srgb8(t) => decode_srgb8(&SRGB8_LEVELS, t[i]),
+            Texels::Unorm8(t) => decode_unorm8(t[i]),
+        }
+    }
+
+    /// Every texel in linear RGB, in order.
+    pub fn iter(&self) -> impl ExactSizeIterator<Item = Rgb> + '_ {
+        (0..self.len()).map(|i| self.get(i))
+    }
+
+    /// Every texel in linear RGB.
+    pub fn to_linear(&self) -> Vec<Rgb> {
+        self.iter().collect()
+    }
+}
+
+impl FromIterator<Rgb> for Texels {
+    fn from_iter<I: IntoIterator<Item = Rgb>>(texels: I) -> Self {
+        Texels::Linear(texels.into_iter().collect())
+    }
+}
+
+impl From<Vec<Rgb>> for Texels {
+    fn from(texels: Vec<Rgb>) -> Self {
+        Texels::Linear(texels)
+    }
+}
+
+/// A linear-RGB image (sRGB-encoded inputs are decoded on read).
 #[derive(Clone, Debug)]
 pub struct Texture {
     pub name: String,
     pub width: u32,
     pub height: u32,
     /// Row-major, row 0 at the top (v = 0 in glTF's convention).
-    pub texels: Vec<Rgb>,
+    pub texels: Texels,
     /// Wrap modes along u (glTF wrapS) and v (wrapT).
     pub wrap: [Wrap; 2],
     /// Applied to texture coordinates before the lookup (glTF
@@ -81,11 +163,26 @@ impl Texture {
         let [left, right] = [x0, x0.saturating_add(1)].map(|i| self.wrap[0].index(i, w));
         let [top, bottom] =
             [y0, y0.saturating_add(1)].map(|i| self.wrap[1].index(i, h) * self.width as usize);
-        let t = &self.texels;
-        let upper = t[top + left].lerp(t[top + right], fx);
-        let lower = t[bottom + left].lerp(t[bottom + right], fx);
-        upper.lerp(lower, fy)
+        let corners = [top + left, top + right, bottom + left, bottom + right];
+        // One match per lookup, not per texel.
+        match &self.texels {
+            Texels::Linear(t) => bilinear(|i| t[i], corners, fx, fy),
+            Texels::Srgb8(t) => {
+                let levels = &*SRGB8_LEVELS;
+                bilinear(|i| decode_srgb8(levels, t[i]), corners, fx, fy)
+            }
+            Texels::Unorm8(t) => bilinear(|i| decode_unorm8(t[i]), corners, fx, fy),
+        }
     }
+}
+
+/// The bilinear blend of texels [top left, top right, bottom left, bottom
+/// right] with weights fx along a row and fy down a column.
+#[inline(always)]
+fn bilinear(texel: impl Fn(usize) -> Rgb, corners: [usize; 4], fx: f32, fy: f32) -> Rgb {
+    let upper = texel(corners[0]).lerp(texel(corners[1]), fx);
+    let lower = texel(corners[2]).lerp(texel(corners[3]), fx);
+    upper.lerp(lower, fy)
 }
 
 #[cfg(test)]
@@ -98,7 +195,7 @@ mod tests {
             name: "t".into(),
             width: 2,
             height: 1,
-            texels: vec![Rgb::ZERO, Rgb::ONE],
+            texels: vec![Rgb::ZERO, Rgb::ONE].into(),
             wrap,
             uv_transform: Affine2::IDENTITY,
             uv_set,
@@ -132,6 +229,66 @@ mod tests {
         };
         assert!((m.sample(Vec2::new(1.25, 0.5)) - Rgb::ONE).length() < 1e-6);
         assert!((m.sample(Vec2::new(1.75, 0.5)) - Rgb::ZERO).length() < 1e-6);
+    }
+
+    /// Every byte decodes to the value a decode on load gave: the sRGB
+    /// curve of b / 255 (IEC 61966-2-1, evaluated here, not through the
+    /// table), or b / 255 for linear bytes; and a bilinear lookup of byte
+    /// texels equals the lookup of the same texture stored as f32.
+    #[test]
+    fn eight_bit_texels_decode_exactly() {
+        let srgb = |b: u8| {
+            let v = b as f32 / 255.0;
+            if v <= 0.04045 {
+                v / 12.92
+            } else {
+                ((v + 0.055) / 1.055).powf(2.4)
+            }
+        };
+        let bytes: Vec<[u8; 4]> = (0..=255u8).map(|b| [b, 255 - b, b / 3, 0]).collect();
+        let srgb8 = Texels::Srgb8(bytes.clone());
+        let unorm8 = Texels::Unorm8(bytes.clone());
+        for (i, b) in bytes.iter().enumerate() {
+            let expected = Rgb::new(srgb(b[0]), srgb(b[1]), srgb(b[2]));
+            assert!(
+                (srgb8.get(i) - expected).abs().max_element() <= 1e-7,
+                "byte {b:?}"
+            );
+            assert_eq!(
+                srgb8.get(i),
+                Rgb::new(
+                    srgb8_to_linear(b[0]),
+                    srgb8_to_linear(b[1]),
+                    srgb8_to_linear(b[2])
+                )
+            );
+            let linear = Rgb::new(b[0] as f32, b[1] as f32, b[2] as f32) / 255.0;
+            assert_eq!(unorm8.get(i), linear);
+        }
+        assert_eq!(srgb8.get(128).x, srgb8_to_linear(128));
+        assert!((srgb8_to_linear(128) - 0.2158605).abs() < 1e-6);
+        for texels in [srgb8, unorm8] {
+            let bytes = Texture {
+                name: "bytes".into(),
+                width: 16,
+                height: 16,
+                texels: texels.clone(),
+                wrap: [Wrap::MirroredRepeat, Wrap::ClampToEdge],
+                uv_transform: Affine2::IDENTITY,
+                uv_set: 0,
+            };
+            let floats = Texture {
+                texels: Texels::Linear(texels.to_linear()),
+                ..bytes.clone()
+            };
+            for k in 0..500 {
+                let uv = Vec2::new(
+                    (k as f32 * 0.737).fract() * 3.0 - 1.0,
+                    (k as f32 * 0.291).fract() * 3.0 - 1.0,
+                );
+                assert_eq!(bytes.sample(uv), floats.sample(uv), "uv {uv}");
+            }
+        }
     }
 
     #[test]

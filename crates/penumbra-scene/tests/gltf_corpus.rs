@@ -273,7 +273,9 @@ fn features_hierarchy_instancing_camera_light_materials() {
     assert_eq!(l.albedo, Vec3::splat(0.5));
     let tex = &scene.textures[textured.albedo_texture.unwrap()];
     assert_eq!((tex.width, tex.height), (2, 1));
-    assert!((tex.texels[0] - Vec3::new(1.0, srgb_to_linear(128.0 / 255.0), 0.0)).length() < 1e-6);
+    assert!(
+        (tex.texels.get(0) - Vec3::new(1.0, srgb_to_linear(128.0 / 255.0), 0.0)).length() < 1e-6
+    );
     assert!(!textured.double_sided);
     let shiny = &scene.materials[scene.meshes[1].material];
     assert_eq!(shiny.emission, Vec3::splat(4.0));
@@ -399,7 +401,7 @@ fn materials_map_to_the_metallic_roughness_model() {
     assert_eq!((metal.metallic, metal.roughness), (1.0, 0.25));
     let tex = &scene.textures[mat("metal").metallic_roughness_texture.unwrap()];
     assert_eq!((tex.width, tex.height), (2, 1));
-    assert!((tex.texels[0] - Vec3::new(1.0, 128.0 / 255.0, 0.0)).length() < 1e-6);
+    assert!((tex.texels.get(0) - Vec3::new(1.0, 128.0 / 255.0, 0.0)).length() < 1e-6);
     assert!(!mat("metal").double_sided);
 
     // KHR_materials_specular and _emissive_strength.

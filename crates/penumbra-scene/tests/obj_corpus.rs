@@ -167,7 +167,7 @@ fn materials_textures_normals_and_uvs() {
     let textured = &scene.materials[by_name("plain").material];
     let tex = &scene.textures[textured.albedo_texture.unwrap()];
     assert_eq!((tex.width, tex.height), (2, 1));
-    assert_eq!(tex.texels[1], Vec3::new(0.0, 0.0, 1.0));
+    assert_eq!(tex.texels.get(1), Vec3::new(0.0, 0.0, 1.0));
 
     // One warning, for 'shiny' only (lamp: illum 1; textured: exact).
     assert_eq!(scene.warnings.len(), 1, "{:#?}", scene.warnings);

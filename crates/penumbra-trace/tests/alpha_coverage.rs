@@ -79,7 +79,7 @@ fn mask_cuts_where_alpha_is_below_the_cutoff() {
         name: "alpha".into(),
         width: 2,
         height: 1,
-        texels: vec![Rgb::splat(0.2), Rgb::splat(0.8)],
+        texels: vec![Rgb::splat(0.2), Rgb::splat(0.8)].into(),
         wrap: [Wrap::ClampToEdge; 2],
         uv_transform: glam::Affine2::IDENTITY,
         uv_set: 0,

@@ -70,7 +70,7 @@ fn furnace_with_an_emission_texture() {
         name: "ramp".into(),
         width: 2,
         height: 1,
-        texels: vec![Rgb::ZERO, Rgb::splat(2.0)],
+        texels: vec![Rgb::ZERO, Rgb::splat(2.0)].into(),
         wrap: [penumbra_scene::texture::Wrap::ClampToEdge; 2],
         uv_transform: glam::Affine2::IDENTITY,
         uv_set: 0,

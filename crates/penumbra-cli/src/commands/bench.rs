@@ -358,7 +358,7 @@ fn without_textures(scene: &Scene) -> Scene {
     use penumbra_shading::bsdf::Bsdf;
     let mean = |t: usize| {
         let texels = &scene.textures[t].texels;
-        texels.iter().copied().sum::<Rgb>() / texels.len().max(1) as f32
+        texels.iter().sum::<Rgb>() / texels.len().max(1) as f32
     };
     let mut plain = scene.clone();
     for m in &mut plain.materials {

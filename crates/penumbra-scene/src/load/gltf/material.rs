@@ -45,11 +45,11 @@
 
 use super::Loader;
 use super::container::decode_data_uri;
-use super::texture::decode_texture;
+use super::texture::{decode_texture, is_eight_bit};
 use crate::error::{Location, SceneError};
 use crate::material::{AlphaCoverage, Material, MaterialId, NormalMap, OcclusionMap};
 use crate::paths::resolve_uri;
-use crate::texture::Texture;
+use crate::texture::{Texels, Texture};
 use crate::texture::{TextureId, Wrap};
 use ::gltf::json::material::AlphaMode;
 use ::gltf::json::texture::WrappingMode;
@@ -489,7 +489,7 @@ impl Loader<'_> {
         mapping: UvMapping,
         notes: &mut Vec<String>,
     ) -> Result<TextureId, SceneError> {
-        let id = self.linear_texture(t, mapping, notes, |p| Rgb::new(p[0], p[1], p[2]), false)?;
+        let id = self.linear_texture(t, mapping, notes, [0, 1, 2], false)?;
         // `linear_texture` gives `None` only when asked for alpha.
         id.ok_or_else(|| {
             SceneError::at_path(
@@ -508,18 +508,19 @@ impl Loader<'_> {
         mapping: UvMapping,
         notes: &mut Vec<String>,
     ) -> Result<Option<TextureId>, SceneError> {
-        self.linear_texture(t, mapping, notes, |p| Rgb::splat(p[3]), true)
+        self.linear_texture(t, mapping, notes, [3, 3, 3], true)
     }
 
-    /// A scene texture of `pick(texel)` over glTF `textures[t]`'s image,
-    /// its channels read as linear values in [0, 1]; `None` when
-    /// `needs_alpha` and the image has no alpha channel.
+    /// A scene texture over glTF `textures[t]`'s image whose r, g, b are
+    /// the image's RGBA channels `channels`, read as linear values in
+    /// [0, 1] (8-bit images keep their bytes, [`Texels::Unorm8`]); `None`
+    /// when `needs_alpha` and the image has no alpha channel.
     fn linear_texture(
         &mut self,
         t: usize,
         mapping: UvMapping,
         notes: &mut Vec<String>,
-        pick: impl Fn(&image::Rgba<f32>) -> Rgb,
+        channels: [usize; 3],
         needs_alpha: bool,
     ) -> Result<Option<TextureId>, SceneError> {
         let wrap = self.sampler_wrap(t, notes)?;
@@ -530,12 +531,19 @@ impl Loader<'_> {
         if needs_alpha && !img.color().has_alpha() {
             return Ok(None);
         }
-        let rgba = img.to_rgba32f();
+        let [r, g, b] = channels;
+        let texels = if is_eight_bit(&img) {
+            let rgba = img.to_rgba8();
+            Texels::Unorm8(rgba.pixels().map(|p| [p[r], p[g], p[b], 0]).collect())
+        } else {
+            let rgba = img.to_rgba32f();
+            Texels::Linear(rgba.pixels().map(|p| Rgb::new(p[r], p[g], p[b])).collect())
+        };
         let texture = Texture {
             name,
-            width: rgba.width(),
-            height: rgba.height(),
-            texels: rgba.pixels().map(pick).collect(),
+            width: img.width(),
+            height: img.height(),
+            texels,
             wrap,
             uv_transform: mapping.transform,
             uv_set: mapping.set,

@@ -1,14 +1,23 @@
 //! Image decoding into linear-RGB [`Texture`]s (shared with the OBJ loader).
 
-use crate::texture::Texture;
+use crate::texture::{Texels, Texture};
 use image::{ColorType, DynamicImage};
 use penumbra_shading::Rgb;
 use penumbra_shading::color::srgb_to_linear;
 
+/// Whether `img` has 8 bits per channel (kept as bytes in [`Texels`]).
+pub(crate) fn is_eight_bit(img: &DynamicImage) -> bool {
+    matches!(
+        img.color(),
+        ColorType::L8 | ColorType::La8 | ColorType::Rgb8 | ColorType::Rgba8
+    )
+}
+
 /// Decodes a PNG/JPEG (or any format the `image` crate is built with) into a
 /// linear-RGB texture. 8- and 16-bit images are taken as sRGB-encoded and
-/// decoded with the sRGB transfer function; float images (HDR, EXR) are
-/// taken as linear. Alpha is dropped. `Err` is a message.
+/// decoded with the sRGB transfer function (8-bit ones keep their bytes,
+/// [`Texels::Srgb8`]); float images (HDR, EXR) are taken as linear. Alpha is
+/// dropped. `Err` is a message.
 pub(crate) fn decode_texture(bytes: &[u8], name: String) -> Result<Texture, String> {
     let img = image::load_from_memory(bytes).map_err(|e| e.to_string())?;
     texture_from_image(&img, name)
@@ -19,30 +28,31 @@ fn texture_from_image(img: &DynamicImage, name: String) -> Result<Texture, Strin
     if width == 0 || height == 0 {
         return Err("the image has no pixels".into());
     }
-    let texels: Vec<Rgb> = match img.color() {
-        ColorType::Rgb32F | ColorType::Rgba32F => img
-            .to_rgb32f()
-            .pixels()
-            .map(|p| Rgb::new(p[0], p[1], p[2]))
-            .collect(),
-        ColorType::L8 | ColorType::La8 | ColorType::Rgb8 | ColorType::Rgba8 => {
-            let lut: [f32; 256] = std::array::from_fn(|i| srgb_to_linear(i as f32 / 255.0));
+    let texels = match img.color() {
+        ColorType::Rgb32F | ColorType::Rgba32F => Texels::Linear(
+            img.to_rgb32f()
+                .pixels()
+                .map(|p| Rgb::new(p[0], p[1], p[2]))
+                .collect(),
+        ),
+        _ if is_eight_bit(img) => Texels::Srgb8(
             img.to_rgb8()
                 .pixels()
-                .map(|p| Rgb::new(lut[p[0] as usize], lut[p[1] as usize], lut[p[2] as usize]))
-                .collect()
-        }
-        _ => img
-            .to_rgb32f()
-            .pixels()
-            .map(|p| {
-                Rgb::new(
-                    srgb_to_linear(p[0]),
-                    srgb_to_linear(p[1]),
-                    srgb_to_linear(p[2]),
-                )
-            })
-            .collect(),
+                .map(|p| [p[0], p[1], p[2], 0])
+                .collect(),
+        ),
+        _ => Texels::Linear(
+            img.to_rgb32f()
+                .pixels()
+                .map(|p| {
+                    Rgb::new(
+                        srgb_to_linear(p[0]),
+                        srgb_to_linear(p[1]),
+                        srgb_to_linear(p[2]),
+                    )
+                })
+                .collect(),
+        ),
     };
     Ok(Texture {
         name,
@@ -70,10 +80,15 @@ mod tests {
             .unwrap();
         let t = decode_texture(&png, "t".into()).unwrap();
         assert_eq!((t.width, t.height), (2, 1));
-        assert!((t.texels[0].x - 1.0).abs() < 1e-6);
-        assert!((t.texels[0].y - srgb_to_linear(128.0 / 255.0)).abs() < 1e-6);
-        assert!((t.texels[0].y - 0.2158605).abs() < 1e-4);
-        assert_eq!(t.texels[1].z, 1.0);
+        // Kept as bytes.
+        assert_eq!(
+            t.texels,
+            Texels::Srgb8(vec![[255, 128, 0, 0], [0, 0, 255, 0]])
+        );
+        assert!((t.texels.get(0).x - 1.0).abs() < 1e-6);
+        assert!((t.texels.get(0).y - srgb_to_linear(128.0 / 255.0)).abs() < 1e-6);
+        assert!((t.texels.get(0).y - 0.2158605).abs() < 1e-4);
+        assert_eq!(t.texels.get(1).z, 1.0);
         assert!(decode_texture(b"not an image", "x".into()).is_err());
     }
 }
