@@ -38,28 +38,42 @@ pub fn parse_positive(s: &str) -> Result<u32, String> {
     Ok(n as u32)
 }
 
-/// Parses seconds > 0.
-pub fn parse_seconds(s: &str) -> Result<f64, String> {
+/// `s` as a finite number that `accepts` takes; the errors say that `s` is
+/// not `noun`, or `v: rule`.
+pub fn parse_number(
+    s: &str,
+    noun: &str,
+    accepts: impl Fn(f64) -> bool,
+    rule: &str,
+) -> Result<f64, String> {
     let v: f64 = s
         .trim()
         .parse()
-        .map_err(|_| format!("'{s}' is not a number of seconds"))?;
-    if !(v > 0.0 && v.is_finite()) {
-        return Err(format!("{v} must be a positive number of seconds"));
+        .map_err(|_| format!("'{s}' is not {noun}"))?;
+    if !(v.is_finite() && accepts(v)) {
+        return Err(format!("{v}: {rule}"));
     }
     Ok(v)
 }
 
+/// Parses seconds > 0.
+pub fn parse_seconds(s: &str) -> Result<f64, String> {
+    parse_number(
+        s,
+        "a number of seconds",
+        |v| v > 0.0,
+        "must be a positive number of seconds",
+    )
+}
+
 /// A positive, finite length in scene units (`--ao-radius`, `--ao-distance`).
 pub fn parse_length(s: &str) -> Result<f64, String> {
-    let v: f64 = s
-        .trim()
-        .parse()
-        .map_err(|_| format!("'{s}' is not a length"))?;
-    if !(v > 0.0 && v.is_finite()) {
-        return Err(format!("{v} must be a positive length in scene units"));
-    }
-    Ok(v)
+    parse_number(
+        s,
+        "a length",
+        |v| v > 0.0,
+        "must be a positive length in scene units",
+    )
 }
 
 /// Loads a scene file; absolute paths the user typed are allowed inside it.

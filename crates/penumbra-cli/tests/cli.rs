@@ -15,6 +15,26 @@ fn reference(scene: &str, file: &str) -> String {
         .to_string()
 }
 
+/// A scene that cannot be read: the file and the system's reason, said
+/// once (not again by the error chain).
+#[test]
+fn an_unreadable_scene_gives_its_reason_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = penumbra(&["render", "no-such-scene.gltf", "-o", "a.png"], dir.path());
+    assert!(!o.status.success());
+    let err = stderr(&o);
+    // What the system says, e.g. "No such file or directory (os error 2)".
+    let reason = std::fs::read(dir.path().join("no-such-scene.gltf"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("no-such-scene.gltf: cannot read file"),
+        "{err}"
+    );
+    assert_eq!(err.matches(&reason).count(), 1, "{err}");
+    assert!(files_in(dir.path()).is_empty());
+}
+
 #[test]
 fn bad_arguments_fail_without_output() {
     let dir = tempfile::tempdir().unwrap();

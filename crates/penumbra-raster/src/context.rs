@@ -15,11 +15,12 @@ pub enum GpuError {
          (package `mesa-vulkan-drivers`)"
     )]
     NoAdapter,
-    #[error("cannot open a device on adapter '{adapter}': {source}")]
+    // The reason is in the message, not also a `source()` (printed twice
+    // by reporters of the chain).
+    #[error("cannot open a device on adapter '{adapter}': {cause}")]
     Device {
         adapter: String,
-        #[source]
-        source: wgpu::RequestDeviceError,
+        cause: wgpu::RequestDeviceError,
     },
     #[error("{0}")]
     Unsupported(String),
@@ -132,9 +133,9 @@ impl GpuContext {
                 ..Default::default()
             })
             .await
-            .map_err(|source| GpuError::Device {
+            .map_err(|cause| GpuError::Device {
                 adapter: summary.name.clone(),
-                source,
+                cause,
             })?;
         Ok(Self {
             instance,

@@ -33,12 +33,12 @@ impl fmt::Display for Location {
 /// A scene that cannot be loaded.
 #[derive(Debug, thiserror::Error)]
 pub enum SceneError {
-    /// The file could not be read.
-    #[error("{}: cannot read file: {source}", file.display())]
+    /// The file could not be read. The reason is in the message, so it is
+    /// not also a `source()` (a reporter printing the chain would repeat it).
+    #[error("{}: cannot read file: {cause}", file.display())]
     Io {
         file: PathBuf,
-        #[source]
-        source: std::io::Error,
+        cause: std::io::Error,
     },
     /// The content is invalid at a known place.
     #[error("{}{location}: {message}", file.display())]

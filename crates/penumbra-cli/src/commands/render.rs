@@ -2,8 +2,8 @@
 
 use crate::commands::partial::{Checkpointer, PartArgs, RenderIdentity};
 use crate::options::{
-    SettingsArgs, check_image_memory, parse_length, parse_msaa, parse_positive, parse_seconds,
-    scene_or_builtin, thread_pool,
+    SettingsArgs, check_image_memory, parse_length, parse_msaa, parse_number, parse_positive,
+    parse_seconds, scene_or_builtin, thread_pool,
 };
 use anyhow::{Context, Result, bail};
 use clap::{Args, ValueEnum};
@@ -120,16 +120,12 @@ pub struct AoArgs {
 }
 
 fn parse_thin_occluders(s: &str) -> Result<f64, String> {
-    let v: f64 = s
-        .trim()
-        .parse()
-        .map_err(|_| format!("'{s}' is not a number"))?;
-    if !(v >= 0.0 && v.is_finite()) {
-        return Err(format!(
-            "{v}: the thin-occluder compensation is a number >= 0"
-        ));
-    }
-    Ok(v)
+    parse_number(
+        s,
+        "a number",
+        |v| v >= 0.0,
+        "the thin-occluder compensation is a number >= 0",
+    )
 }
 
 impl AoArgs {

@@ -38,8 +38,8 @@ pub fn load_scene(path: &Path, options: &LoadOptions) -> Result<Scene, SceneErro
 
 /// Reads a whole file, mapping the I/O error to a [`SceneError`] naming it.
 pub(crate) fn read_file(path: &Path) -> Result<Vec<u8>, SceneError> {
-    std::fs::read(path).map_err(|source| SceneError::Io {
+    std::fs::read(path).map_err(|cause| SceneError::Io {
         file: path.to_path_buf(),
-        source,
+        cause,
     })
 }

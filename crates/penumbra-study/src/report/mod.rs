@@ -22,20 +22,20 @@ pub const HTML_FILE: &str = "index.html";
 /// A report file that could not be made or written.
 #[derive(Debug, thiserror::Error)]
 pub enum ReportError {
-    #[error("cannot write {}: {source}", path.display())]
+    #[error("cannot write {}: {cause}", path.display())]
     Io {
         path: PathBuf,
-        source: std::io::Error,
+        cause: std::io::Error,
     },
-    #[error("cannot serialise {}: {source}", path.display())]
+    #[error("cannot serialise {}: {cause}", path.display())]
     Json {
         path: PathBuf,
-        source: serde_json::Error,
+        cause: serde_json::Error,
     },
-    #[error("cannot render {}: {source}", path.display())]
+    #[error("cannot render {}: {cause}", path.display())]
     Template {
         path: PathBuf,
-        source: minijinja::Error,
+        cause: minijinja::Error,
     },
 }
 
@@ -43,30 +43,30 @@ pub enum ReportError {
 /// into `dir` (created if missing). Image paths in `study` are relative to
 /// `dir`; the images themselves are not touched.
 pub fn write_report(dir: &Path, study: &Study) -> Result<(), ReportError> {
-    std::fs::create_dir_all(dir).map_err(|source| ReportError::Io {
+    std::fs::create_dir_all(dir).map_err(|cause| ReportError::Io {
         path: dir.to_path_buf(),
-        source,
+        cause,
     })?;
     let json_path = dir.join(JSON_FILE);
-    let json = serde_json::to_string_pretty(study).map_err(|source| ReportError::Json {
+    let json = serde_json::to_string_pretty(study).map_err(|cause| ReportError::Json {
         path: json_path.clone(),
-        source,
+        cause,
     })?;
     write(&json_path, json + "\n")?;
     write(&dir.join(CSV_FILE), study_csv(study))?;
     write(&dir.join(PLOT_FILE), error_vs_time_svg(study))?;
     let html_path = dir.join(HTML_FILE);
-    let html = index_html(study).map_err(|source| ReportError::Template {
+    let html = index_html(study).map_err(|cause| ReportError::Template {
         path: html_path.clone(),
-        source,
+        cause,
     })?;
     write(&html_path, html)
 }
 
 fn write(path: &Path, contents: String) -> Result<(), ReportError> {
-    std::fs::write(path, contents).map_err(|source| ReportError::Io {
+    std::fs::write(path, contents).map_err(|cause| ReportError::Io {
         path: path.to_path_buf(),
-        source,
+        cause,
     })
 }
 
