@@ -20,7 +20,7 @@ use crate::gpu::{
 };
 use half::f16;
 use penumbra_scene::texture::Wrap;
-use penumbra_scene::{AlphaMode, Scene, Texture, TextureId};
+use penumbra_scene::{AlphaMode, Scene, Texels, Texture, TextureId};
 use penumbra_shading::Rgb;
 use penumbra_shading::color::{linear_to_srgb, srgb_to_linear};
 use std::collections::BTreeMap;
@@ -241,9 +241,15 @@ impl TextureTable {
             .iter()
             .map(|&(t, _)| mip_chain(&scene.textures[t]))
             .collect();
-        let formats: Vec<TexelFormat> = chains
+        // 8-bit sources say their format; f32 ones are scanned.
+        let formats: Vec<TexelFormat> = order
             .iter()
-            .map(|c| TexelFormat::of(&c[0].texels))
+            .zip(&chains)
+            .map(|(&(t, _), c)| match scene.textures[t].texels {
+                Texels::Srgb8(_) => TexelFormat::Srgb8,
+                Texels::Unorm8(_) => TexelFormat::Unorm8,
+                Texels::Linear(_) => TexelFormat::of(&c[0].texels),
+            })
             .collect();
         let word_count = |c: &[Vec<MipLevel>]| -> u64 {
             c.iter()

@@ -171,6 +171,24 @@ fn near(gpu: Vec3, cpu: Vec3) -> bool {
     (gpu - cpu).abs().max_element() <= 2e-3 * cpu.abs().max_element().max(1.0)
 }
 
+/// A level-0 lookup (no footprint) of the albedo texture of material `t`
+/// (texture `t` of `scene`) at random coordinates in [−2.5, 2.5)², and
+/// what Texture::sample gives there.
+fn level0_lookup(
+    rng: &mut TestRng,
+    scene: &Scene,
+    table: &TextureTable,
+    t: usize,
+) -> (Lookup, Vec3) {
+    let uv = Vec2::new(rng.next_f32() * 5.0 - 2.5, rng.next_f32() * 5.0 - 2.5);
+    let case = Lookup {
+        uv: uv.to_array(),
+        texture: table.materials[t].albedo,
+        ..Default::default()
+    };
+    (case, scene.textures[t].sample(uv))
+}
+
 /// The lookups `cases` in `table` made by WGSL `sample_texture` (in a
 /// pipeline with the given constants) that are not `near` the `expected`
 /// values: (index, case, GPU value, expected value).
@@ -252,13 +270,9 @@ fn wgsl_lookups_match_the_cpu_and_the_mip_levels() {
     );
     for _ in 0..4000 {
         let t = (rng.next_f32() * 4.0) as usize % 4;
-        let uv = Vec2::new(rng.next_f32() * 5.0 - 2.5, rng.next_f32() * 5.0 - 2.5);
-        cases.push(Lookup {
-            uv: uv.to_array(),
-            texture: table.materials[t].albedo,
-            ..Default::default()
-        });
-        expected.push(scene.textures[t].sample(uv));
+        let (case, value) = level0_lookup(&mut rng, &scene, &table, t);
+        cases.push(case);
+        expected.push(value);
     }
     let level0 = cases.len();
     // The 16×16 texture minified: a footprint of 2 texels reads level 1,
@@ -383,13 +397,9 @@ fn specialised_lookups_match_the_cpu() {
         let mut expected = Vec::new();
         for i in 0..1200 {
             let t = i % scene.textures.len();
-            let uv = Vec2::new(rng.next_f32() * 5.0 - 2.5, rng.next_f32() * 5.0 - 2.5);
-            cases.push(Lookup {
-                uv: uv.to_array(),
-                texture: table.materials[t].albedo,
-                ..Default::default()
-            });
-            expected.push(scene.textures[t].sample(uv));
+            let (case, value) = level0_lookup(&mut rng, &scene, &table, t);
+            cases.push(case);
+            expected.push(value);
         }
         let bad = mismatches(&ctx, &features.constants(), &table, &cases, &expected);
         assert!(
