@@ -186,9 +186,10 @@ pub fn run(args: BenchArgs) -> Result<()> {
         );
         return Ok(());
     }
+    let pool = thread_pool(args.threads)?;
     let start = std::time::Instant::now();
     let scene = match (&args.scene, &args.mesh) {
-        (Some(p), _) => load_scene(p)?,
+        (Some(p), _) => pool.install(|| load_scene(p))?,
         (None, Some(m)) => {
             let loaded = load_scene(m)?;
             mesh_scene(
@@ -211,7 +212,6 @@ pub fn run(args: BenchArgs) -> Result<()> {
     if scene.triangle_count() == 0 {
         bail!("the scene has no triangles to benchmark");
     }
-    let pool = thread_pool(args.threads)?;
     pool.install(|| run_measures(&args, &scene, load))
 }
 

@@ -258,7 +258,10 @@ pub fn run_argv(args: &[String]) -> Result<()> {
 pub fn run(args: RenderArgs) -> Result<()> {
     // Check the output before spending time on loading and rendering.
     check_output_path(&args.output)?;
-    let mut scene = scene_or_builtin(args.scene.as_deref())?;
+    // Loading runs on the same workers as the render (MikkTSpace tangents
+    // of large meshes are computed in parallel).
+    let pool = thread_pool(args.threads)?;
+    let mut scene = pool.install(|| scene_or_builtin(args.scene.as_deref()))?;
     if let Some(c) = &args.camera {
         scene
             .use_camera(c)
@@ -352,7 +355,6 @@ pub fn run(args: RenderArgs) -> Result<()> {
         target_rel_mse: args.parts.target_relmse,
         ..Default::default()
     };
-    let pool = thread_pool(args.threads)?;
     let out = pool.install(|| render(&scene, &settings, &options));
     if let Some(b) = &bar {
         b.finish_and_clear();
