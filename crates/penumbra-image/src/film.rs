@@ -481,10 +481,18 @@ mod tests {
                     }
                 }
             }
+            // One rejected sample in every tile, counted once each.
+            for t in &mut tiles {
+                let (x, y) = (t.x0(), t.y0());
+                t.add_sample(x, y, Rgb::new(f32::NAN, 0.0, 0.0));
+                direct.add_sample(x, y, Rgb::new(f32::NAN, 0.0, 0.0));
+            }
             for t in &tiles {
                 tiled.merge_tile(t);
             }
         }
+        assert_eq!(tiled.rejected_samples(), direct.rejected_samples());
+        assert_eq!(direct.rejected_samples(), 3 * 6);
         for y in 0..h {
             for x in 0..w {
                 assert_eq!(direct.sample_count(x, y), tiled.sample_count(x, y));
@@ -506,7 +514,9 @@ mod tests {
         tile.add_sample(1, 2, Rgb::ONE);
         tile.add_sample(4, 2, Rgb::ONE);
         tile.add_sample(3, 3, Rgb::ONE);
-        assert_eq!(tile.sample_count(3, 3), 1);
+        tile.add_sample(3, 3, Rgb::splat(3.0));
+        assert_eq!(tile.sample_count(3, 3), 2);
+        assert_eq!(tile.sample_count(2, 3), 0);
         let mut film = Film::new(3, 3); // tile partly outside the film
         film.merge_tile(&tile);
         assert_eq!(film.total_samples(), 0);
@@ -600,6 +610,12 @@ mod tests {
         assert_eq!(film.rejected_samples(), 2);
         assert_eq!(film.sample_count(0, 0), 2);
         assert_eq!(film.mean().get(0, 0), Rgb::new(0.5, 3.5e13, 0.0));
+        // Exactly 2⁴⁶ (an f32) is rejected, the float below it is not.
+        film.add_sample(0, 0, Rgb::new(0.0, 0.0, 70_368_744_177_664.0));
+        assert_eq!(film.rejected_samples(), 3);
+        film.add_sample(0, 0, Rgb::new(0.0, 0.0, 70_368_739_983_360.0));
+        assert_eq!(film.rejected_samples(), 3);
+        assert_eq!(film.sample_count(0, 0), 3);
     }
 
     #[test]

@@ -317,6 +317,67 @@ mod tests {
         assert!((flip_aces(x) - 0.85).abs() < 1e-5);
     }
 
+    /// FLIP's tone curve at hand-computed points: T(1) = (0.36·2.51 + 0.6·0.03)
+    /// / (0.36·2.43 + 0.6·0.59 + 0.14) = 0.9216 / 1.3688 (T(0.5) likewise);
+    /// NaN and negative
+    /// values (even huge ones, where the rational function is near 1) give 0.
+    #[test]
+    fn aces_curve_values() {
+        assert!((flip_aces(1.0) - 0.9216 / 1.3688).abs() < 1e-6);
+        assert!((flip_aces(0.5) - 0.2349 / 0.5357).abs() < 1e-6);
+        for x in [f32::NAN, -1.0e3, f32::NEG_INFINITY, -0.0] {
+            assert_eq!(flip_aces(x), 0.0, "T({x})");
+        }
+        assert_eq!(flip_aces(f32::INFINITY), 1.0);
+    }
+
+    /// FLIP's median: the mean of elements n/2 − 1 and n/2 of the sorted
+    /// values, also for odd n (its reference code's choice).
+    #[test]
+    fn median_is_flips() {
+        assert_eq!(median_sorted(&[]), 0.0);
+        assert_eq!(median_sorted(&[7.0]), 7.0);
+        assert_eq!(median_sorted(&[1.0, 2.0, 3.0, 4.0]), 2.5);
+        assert_eq!(median_sorted(&[1.0, 2.0, 3.0, 4.0, 5.0, 6.0]), 3.5);
+        assert_eq!(median_sorted(&[1.0, 2.0, 3.0]), 1.5);
+    }
+
+    /// An exposure of e stops scales the images by 2^e before the tone
+    /// curve: FLIP at exposure e equals FLIP at exposure 0 of the images
+    /// scaled by 2^e (here by 2^±5, where the curve is far from linear).
+    #[test]
+    fn exposure_scales_the_images() {
+        let r = Image::from_fn(24, 16, |x, y| {
+            Rgb::new(x as f32 / 24.0, y as f32 / 16.0, 0.3) * 0.05
+        });
+        let t = Image::from_fn(24, 16, |x, y| {
+            r.get(x, y) * if (x + 2 * y) % 3 == 0 { 1.8 } else { 1.0 }
+        });
+        let at = |r: &Image, t: &Image, e: f32| {
+            let options = FlipOptions {
+                exposures: Some(ExposureRange {
+                    start: e,
+                    stop: e,
+                    count: 2,
+                }),
+                ..FlipOptions::default()
+            };
+            hdr_flip_with(r, t, &options).expect("flip").0
+        };
+        let scaled =
+            |img: &Image, k: f32| Image::from_fn(img.width, img.height, |x, y| img.get(x, y) * k);
+        for e in [5.0f32, -5.0] {
+            let k = e.exp2();
+            let (exposed, prescaled) = (at(&r, &t, e), at(&scaled(&r, k), &scaled(&t, k), 0.0));
+            assert!(
+                (exposed - prescaled).abs() < 1e-9,
+                "e = {e}: {exposed} vs {prescaled}"
+            );
+        }
+        // The two exposures really differ (bright errors are seen, dark ones hidden).
+        assert!(at(&r, &t, 5.0) > 4.0 * at(&r, &t, -5.0));
+    }
+
     #[test]
     fn exposure_range_of_constant_image() {
         let r = flip_exposure_range(&Image::filled(4, 4, Rgb::ONE));

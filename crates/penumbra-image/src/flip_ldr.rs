@@ -38,9 +38,11 @@ const B2: [f32; 3] = [1.0e-5, 1.0e-5, 0.025];
 const ILLUMINANT: Vec3 = Vec3::new(0.950428545, 1.000000000, 1.088900371);
 const INV_ILLUMINANT: Vec3 = Vec3::new(1.052156925, 1.000000000, 0.918357670);
 
-/// `a √(π/b) exp(−π² x² / b)`.
-fn gaussian_ab(x2: f32, a: f32, b: f32) -> f32 {
-    a * (PI / b).sqrt() * (-(PI * PI) * x2 / b).exp()
+/// `exp(−π² x² / b)`: the shape of the CSF Gaussian `a √(π/b) exp(−π² x² / b)`
+/// of Y and Cx, whose amplitude `a √(π/b)` cancels when its filter is
+/// normalised to sum 1.
+fn gaussian_shape(x2: f32, b: f32) -> f32 {
+    (-(PI * PI) * x2 / b).exp()
 }
 
 /// `√(a √(π/b)) exp(−π² x² / b)`: separable factor of a sum of Gaussians.
@@ -144,8 +146,8 @@ fn spatial_filters(ppd: f32) -> (Vec<[f32; 2]>, Vec<[f32; 2]>) {
     for i in 0..width {
         let ix = (i as f32 - radius as f32) * delta_x;
         let ix2 = ix * ix;
-        let g_y = gaussian_ab(ix2, A1[0], B1[0]);
-        let g_cx = gaussian_ab(ix2, A1[1], B1[1]);
+        let g_y = gaussian_shape(ix2, B1[0]);
+        let g_cx = gaussian_shape(ix2, B1[1]);
         let g_cz1 = gaussian_sqrt(ix2, A1[2], B1[2]);
         let g_cz2 = gaussian_sqrt(ix2, A2[2], B2[2]);
         ycx.push([g_y, g_cx]);
