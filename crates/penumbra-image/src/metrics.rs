@@ -173,6 +173,15 @@ mod tests {
         // PSNR with peak 2: 20 log10(2 / sqrt(5/6)).
         let expected = 20.0 * (2.0 / (5.0f64 / 6.0).sqrt()).log10();
         assert!((psnr(&r, &t) - expected).abs() < 1e-9);
+        // A black reference has no peak: 1.0 is used, so an error of 0.1
+        // everywhere reads 20 log10(1 / 0.1) = 20 dB.
+        let black = Image::new(3, 2);
+        let grey = Image::filled(3, 2, Rgb::splat(0.1));
+        assert!(
+            (psnr(&black, &grey) - 20.0).abs() < 1e-5,
+            "{}",
+            psnr(&black, &grey)
+        );
     }
 
     #[test]

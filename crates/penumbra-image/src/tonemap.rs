@@ -246,6 +246,11 @@ mod tests {
         assert_eq!(code(-1.0, tm), 0);
         assert_eq!(code(f32::NAN, tm), 0);
         assert_eq!(code(f32::INFINITY, tm), 255);
+        // NaN and negative values are black, even huge negative ones (where
+        // the rational function is near 1).
+        for x in [f32::NAN, -1.0e3, f32::NEG_INFINITY] {
+            assert_eq!(aces_filmic(x), 0.0, "f({x})");
+        }
     }
 
     #[test]
@@ -270,6 +275,11 @@ mod tests {
         assert_eq!(code(0.0, tm), 0);
         assert_eq!(code(1.0e30, tm), 255);
         assert_eq!(code(f32::INFINITY, tm), 255);
+        // NaN and negative values are black, even huge negative ones (where
+        // the rational function is near 1).
+        for x in [f32::NAN, -1.0e3, f32::NEG_INFINITY] {
+            assert_eq!(aces_filmic(x), 0.0, "f({x})");
+        }
     }
 
     #[test]
@@ -295,6 +305,12 @@ mod tests {
         assert_eq!("Filmic".parse::<ToneOperator>(), Ok(ToneOperator::Filmic));
         assert_eq!("clamp".parse::<ToneOperator>(), Ok(ToneOperator::Clamp));
         assert!("reinhard".parse::<ToneOperator>().is_err());
+        // The names printed are the names parsed.
+        assert_eq!(ToneOperator::Clamp.name(), "clamp");
+        assert_eq!(ToneOperator::Filmic.to_string(), "filmic");
+        for op in [ToneOperator::Clamp, ToneOperator::Filmic] {
+            assert_eq!(op.name().parse::<ToneOperator>(), Ok(op));
+        }
     }
 
     #[test]
@@ -328,5 +344,27 @@ mod tests {
         assert_eq!("-1.5".parse::<Exposure>(), Ok(Exposure::Stops(-1.5)));
         assert!("bright".parse::<Exposure>().is_err());
         assert!("inf".parse::<Exposure>().is_err());
+    }
+
+    /// A fixed exposure is its stops; `auto` meters the image (constant
+    /// luminance 0.0225, three stops below 0.18: +3 EV) or the pixels asked for.
+    #[test]
+    fn exposure_resolves_to_stops() {
+        let grey = Image::filled(4, 4, Rgb::splat(0.0225));
+        assert_eq!(Exposure::Stops(2.5).resolve(&grey, None), 2.5);
+        assert!((Exposure::Auto.resolve(&grey, None) - 3.0).abs() < 1e-5);
+        let mut half = grey.clone();
+        for p in &mut half.pixels[8..] {
+            *p = Rgb::splat(0.72);
+        }
+        let bright: Vec<bool> = (0..16).map(|i| i >= 8).collect();
+        assert!((Exposure::Auto.resolve(&half, Some(&bright)) + 2.0).abs() < 1e-5);
+        // A mask that marks nothing, or does not fit the image, is ignored:
+        // both halves are metered, geometric mean √(0.0225 · 0.72) = 0.18/√2,
+        // +0.5 EV.
+        for mask in [&[false; 16][..], &[true; 3][..]] {
+            let ev = Exposure::Auto.resolve(&half, Some(mask));
+            assert!((ev - 0.5).abs() < 1e-5, "{ev}");
+        }
     }
 }
