@@ -133,7 +133,7 @@ fn tangents_in_parts(
         let fans = fans(mesh, normals, uvs, faces_per_part);
         let faces: Vec<Vec<u32>> = (0..parts)
             .into_par_iter()
-            .map(|p| fans.part_faces(p))
+            .map(|p| fans.part_faces(mesh, p))
             .collect();
         (fans, faces)
     });
@@ -157,20 +157,16 @@ fn tangents_in_parts(
 }
 
 /// Which triangles touch each weld class (vertices equal in position,
-/// normal and MikkTSpace UV), and which part owns each class: the part of
-/// the last triangle that touches it (any part would do: a part holds the
-/// whole fan of each class it owns).
+/// normal and MikkTSpace UV). A class belongs to the part of the last
+/// triangle that touches it (any part would do: a part holds the whole fan
+/// of each class it owns).
 struct Fans {
     /// Weld class of each vertex.
     class: Vec<u32>,
-    /// Triangles of class c: `faces[start[c]..start[c + 1]]`.
+    /// Triangles of class c, in the mesh's order: `faces[start[c]..start[c + 1]]`.
     start: Vec<u32>,
     faces: Vec<u32>,
-    /// Owning part of each class (`u32::MAX`: no triangle touches it).
-    owner: Vec<u32>,
-    /// Classes each part owns: `owned[owned_start[p]..owned_start[p + 1]]`.
-    owned_start: Vec<u32>,
-    owned: Vec<u32>,
+    faces_per_part: usize,
 }
 
 fn fans(mesh: &Mesh, normals: &[Vec3], uvs: &[Vec2], faces_per_part: usize) -> Fans {
@@ -206,36 +202,18 @@ fn fans(mesh: &Mesh, normals: &[Vec3], uvs: &[Vec2], faces_per_part: usize) -> F
     }
     let mut fill = start.clone();
     let mut faces = vec![0u32; mesh.indices.len() * 3];
-    let mut owner = vec![u32::MAX; classes];
     for (f, tri) in mesh.indices.iter().enumerate() {
         for &v in tri {
             let c = class[v as usize] as usize;
             faces[fill[c] as usize] = f as u32;
             fill[c] += 1;
-            owner[c] = (f / faces_per_part) as u32;
         }
-    }
-    let parts = mesh.indices.len().div_ceil(faces_per_part);
-    let mut owned_start = vec![0u32; parts + 1];
-    for &p in owner.iter().filter(|&&p| p != u32::MAX) {
-        owned_start[p as usize + 1] += 1;
-    }
-    for p in 0..parts {
-        owned_start[p + 1] += owned_start[p];
-    }
-    let mut fill = owned_start.clone();
-    let mut owned = vec![0u32; owned_start[parts] as usize];
-    for (c, &p) in owner.iter().enumerate().filter(|(_, p)| **p != u32::MAX) {
-        owned[fill[p as usize] as usize] = c as u32;
-        fill[p as usize] += 1;
     }
     Fans {
         class,
         start,
         faces,
-        owner,
-        owned_start,
-        owned,
+        faces_per_part,
     }
 }
 
@@ -245,20 +223,21 @@ impl Fans {
         &self.faces[self.start[c] as usize..self.start[c + 1] as usize]
     }
 
-    fn owned_by(&self, part: usize) -> &[u32] {
-        &self.owned[self.owned_start[part] as usize..self.owned_start[part + 1] as usize]
-    }
-
+    /// The part that owns `vertex` (which some triangle touches).
     fn owner(&self, vertex: u32) -> usize {
-        self.owner[self.class[vertex as usize] as usize] as usize
+        let fan = self.fan(self.class[vertex as usize]);
+        fan[fan.len() - 1] as usize / self.faces_per_part
     }
 
-    /// The triangles of every fan `part` owns, in the mesh's order.
-    fn part_faces(&self, part: usize) -> Vec<u32> {
-        let mut faces: Vec<u32> = self
-            .owned_by(part)
-            .iter()
-            .flat_map(|&c| self.fan(c).iter().copied())
+    /// The triangles of every fan `part` owns, in the mesh's order: the
+    /// fans of the classes whose last triangle is one of the part's.
+    fn part_faces(&self, mesh: &Mesh, part: usize) -> Vec<u32> {
+        let first = part * self.faces_per_part;
+        let last = (first + self.faces_per_part).min(mesh.indices.len());
+        let mut faces: Vec<u32> = (first..last)
+            .flat_map(|f| mesh.indices[f].map(|v| (f, self.class[v as usize])))
+            .filter(|&(f, c)| *self.fan(c).last().unwrap() as usize == f)
+            .flat_map(|(_, c)| self.fan(c).iter().copied())
             .collect();
         faces.sort_unstable();
         faces.dedup();

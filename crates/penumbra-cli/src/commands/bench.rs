@@ -188,20 +188,23 @@ pub fn run(args: BenchArgs) -> Result<()> {
     }
     let pool = thread_pool(args.threads)?;
     let start = std::time::Instant::now();
-    let scene = match (&args.scene, &args.mesh) {
-        (Some(p), _) => pool.install(|| load_scene(p))?,
-        (None, Some(m)) => {
-            let loaded = load_scene(m)?;
-            mesh_scene(
-                loaded
-                    .instances
-                    .iter()
-                    .map(|i| (loaded.meshes[i.mesh].clone(), i.transform))
-                    .collect(),
-            )
-        }
-        (None, None) => mesh_scene(vec![(bench_mesh(triangles), Mat4::IDENTITY)]),
-    };
+    // Loaded on the measuring workers (`--threads` also bounds the load).
+    let scene = pool.install(|| -> Result<Scene> {
+        Ok(match (&args.scene, &args.mesh) {
+            (Some(p), _) => load_scene(p)?,
+            (None, Some(m)) => {
+                let loaded = load_scene(m)?;
+                mesh_scene(
+                    loaded
+                        .instances
+                        .iter()
+                        .map(|i| (loaded.meshes[i.mesh].clone(), i.transform))
+                        .collect(),
+                )
+            }
+            (None, None) => mesh_scene(vec![(bench_mesh(triangles), Mat4::IDENTITY)]),
+        })
+    })?;
     // Parsing, decoding textures and preparing meshes (tangents included).
     let load = (args.scene.is_some() || args.mesh.is_some()).then(|| Measure {
         name: "load",
