@@ -12,11 +12,11 @@ use penumbra_bake::{
 };
 use penumbra_image::{Image, hdr_flip, read_image, rel_mse};
 use penumbra_raster::{BakedMaps, ForwardRenderer, GpuContext, RasterOptions, ShadowMode};
-use penumbra_scene::{IntegratorKind, RenderSettings, Scene, builtin};
+use penumbra_scene::{Scene, builtin};
 use penumbra_trace::accel::BuildQuality;
 use penumbra_trace::geometry::SceneGeometry;
 use penumbra_trace::ray::Ray;
-use penumbra_trace::{RenderOptions, render, scene_camera};
+use penumbra_trace::scene_camera;
 
 /// Writes `bake` and reads it back: what the CLI hands the renderer.
 fn round_trip(bake: &Bake, scene: &Scene, dir: &tempfile::TempDir, name: &str) -> LoadedBake {
@@ -134,15 +134,7 @@ fn a_baked_ao_shown_by_raster_agrees_with_the_ao_integrator() {
         true,
     );
     let shown = aov(&out, "ao");
-    let settings = RenderSettings {
-        width: size,
-        height: size,
-        spp: 1024,
-        integrator: IntegratorKind::Ao,
-        ao_distance: d,
-        ..Default::default()
-    };
-    let cpu = render(&scene, &settings, &RenderOptions::default()).image;
+    let cpu = common::ao_reference::ao_reference("cornell-r100-256", &scene, size, d);
     let hits = first_hits(&scene, &ao, size);
     let at = |x: i64, y: i64| hits[(y * size as i64 + x) as usize];
     // Interior: the 3×3 neighbourhood sees one chart of one surface;

@@ -15,12 +15,12 @@ use penumbra_raster::readback::TextureReadback;
 use penumbra_raster::shaders::{GTAO_SLICE_WGSL, compute_pipeline};
 use penumbra_raster::{BakedMaps, ForwardRenderer, GpuContext, GpuTimer, RasterOptions, map_read};
 use penumbra_scene::camera::{Camera, Projection};
-use penumbra_scene::{IntegratorKind, Material, RenderSettings, Scene, builtin, primitives};
+use penumbra_scene::{Material, Scene, builtin, primitives};
 use penumbra_shading::stats::TestRng;
 use penumbra_trace::accel::BuildQuality;
 use penumbra_trace::geometry::SceneGeometry;
 use penumbra_trace::ray::Ray;
-use penumbra_trace::{RenderOptions, render, scene_camera};
+use penumbra_trace::scene_camera;
 use wgpu::util::DeviceExt;
 
 const METHODS: [AoMethod; 2] = [AoMethod::Hemisphere, AoMethod::Gtao];
@@ -92,18 +92,6 @@ fn surface_mask(scene: &Scene, size: u32) -> Vec<bool> {
         .collect()
 }
 
-fn cpu_ao(scene: &Scene, size: u32, radius: f32, spp: u32) -> Image {
-    let s = RenderSettings {
-        width: size,
-        height: size,
-        spp,
-        integrator: IntegratorKind::Ao,
-        ao_distance: radius,
-        ..Default::default()
-    };
-    render(scene, &s, &RenderOptions::default()).image
-}
-
 /// Mean absolute error over `mask` and HDR-FLIP of the masked images.
 fn errors(gpu: &Image, cpu: &Image, mask: &[bool]) -> (f64, f64) {
     let (mut sum, mut n) = (0.0, 0usize);
@@ -139,9 +127,15 @@ const THIN: f32 = 1.0;
 
 /// Every variant and quality against the CPU integrator; returns the MAE
 /// per (variant, quality), index 3 × variant + quality.
-fn compare_with_tracer(ctx: &GpuContext, name: &str, scene: &Scene, radius: f32) -> Vec<f64> {
+fn compare_with_tracer(
+    ctx: &GpuContext,
+    name: &str,
+    reference: &str,
+    scene: &Scene,
+    radius: f32,
+) -> Vec<f64> {
     let size = 256;
-    let cpu = cpu_ao(scene, size, radius, 1024);
+    let cpu = common::ao_reference::ao_reference(reference, scene, size, radius);
     let mask = surface_mask(scene, size);
     let mut out = Vec::new();
     for (method, thin) in VARIANTS {
@@ -168,7 +162,13 @@ fn cornell_box_ao_approaches_the_ao_integrator() {
     let Some(ctx) = common::gpu("screen-space AO, Cornell box") else {
         return;
     };
-    let mae = compare_with_tracer(&ctx, "Cornell box", &builtin::cornell_box(), 100.0);
+    let mae = compare_with_tracer(
+        &ctx,
+        "Cornell box",
+        "cornell-r100-256",
+        &builtin::cornell_box(),
+        100.0,
+    );
     // Measured: hemisphere 0.045 / 0.045 / 0.042, GTAO 0.051 / 0.038 /
     // 0.033 (low / medium / high). Most of what remains is occlusion the
     // depth buffer cannot see (the back wall behind the tall box). A 3-D
@@ -232,7 +232,7 @@ fn thin_posts_ao_approaches_the_ao_integrator() {
     let Some(ctx) = common::gpu("screen-space AO, thin posts") else {
         return;
     };
-    let mae = compare_with_tracer(&ctx, "thin posts", &posts_scene(), 0.5);
+    let mae = compare_with_tracer(&ctx, "thin posts", "posts-r0.5-256", &posts_scene(), 0.5);
     // Here the depth buffer's height-field assumption costs GTAO: the floor
     // seen past a post is taken as hidden behind a solid wall, so GTAO
     // darkens a band beside each post that rays pass freely, the more so
@@ -634,7 +634,7 @@ fn analytic_lights_have_no_ambient_occlusion_term() {
             "{} interior light pixels",
             interior.len()
         );
-        let cpu = cpu_ao(&scene, size, 100.0, 16);
+        let cpu = common::ao_reference::ao_render(&scene, size, 100.0, 16);
         for &i in &interior {
             assert_eq!(cpu.pixels[i].x, want, "the ao integrator on the light");
         }

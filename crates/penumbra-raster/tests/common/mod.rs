@@ -2,6 +2,8 @@
 //! unless PENUMBRA_SKIP_GPU=1), the test kernels' structs and WGSL, paths.
 #![allow(dead_code)]
 
+pub mod ao_reference;
+
 use bytemuck::{Pod, Zeroable};
 use penumbra_raster::GpuContext;
 use penumbra_raster::gpu::{GpuLight, GpuMaterial, HostLayout};
