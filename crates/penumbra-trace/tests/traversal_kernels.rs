@@ -1,5 +1,6 @@
 //! Every traversal kernel the CPU runs finds the same closest hit as a
-//! brute-force loop over all triangles, on the benchmark mesh, for coherent
+//! brute-force loop over all triangles, with and without prefetching, on
+//! the benchmark mesh, for coherent
 //! (camera) and incoherent (random directions from surface points) rays.
 
 use glam::Vec3;
@@ -60,12 +61,23 @@ fn kernels_match_brute_force_on_the_bench_mesh() {
         incoherent_hits > 50 && incoherent_hits < 400,
         "{incoherent_hits}"
     );
+    // 100k triangles (5.6 MB of nodes and triangles) are more than the
+    // caches hold: the traversal prefetches by default. Hits must be the
+    // same without.
+    assert!(accel.prefetch());
     for kernel in Kernel::available() {
         accel.set_kernel(kernel).unwrap();
-        for (ray, e) in rays.iter().zip(&expected) {
-            let got = accel.intersect(ray).map(|h| (h.triangle, h.t));
-            assert_eq!(got, *e, "{kernel:?} {ray:?}");
-            assert_eq!(accel.occluded(ray), e.is_some(), "{kernel:?} {ray:?}");
+        for prefetch in [true, false] {
+            accel.set_prefetch(prefetch);
+            for (ray, e) in rays.iter().zip(&expected) {
+                let got = accel.intersect(ray).map(|h| (h.triangle, h.t));
+                assert_eq!(got, *e, "{kernel:?} prefetch {prefetch} {ray:?}");
+                assert_eq!(
+                    accel.occluded(ray),
+                    e.is_some(),
+                    "{kernel:?} prefetch {prefetch} {ray:?}"
+                );
+            }
         }
     }
 }

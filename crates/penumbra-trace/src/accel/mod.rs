@@ -41,7 +41,16 @@ pub struct Accel {
     primitive_indices: Vec<u32>,
     triangle_count: usize,
     kernel: Kernel,
+    /// Whether the traversal prefetches the children it enters.
+    prefetch: bool,
 }
+
+/// The size of tree (nodes and leaf triangles, in bytes) above which the
+/// traversal prefetches: about a core's L2 cache. Below it the tree stays
+/// in cache and the prefetches only cost instructions (measured: a 5 %
+/// slower Cornell box, 32 triangles); on the 1M-triangle bench sphere
+/// (56 MB) they make random rays 1.2–1.4× faster.
+const PREFETCH_ABOVE_BYTES: usize = 2 << 20;
 
 /// BVH build quality preset.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -72,6 +81,7 @@ impl Accel {
                 primitive_indices: Vec::new(),
                 triangle_count: 0,
                 kernel,
+                prefetch: false,
             };
         }
         let mut params = match quality {
@@ -98,13 +108,15 @@ impl Accel {
             .primitive_indices
             .iter()
             .map(|&i| triangles[i as usize].map(Vec3A::from))
-            .collect();
+            .collect::<Vec<_>>();
+        let bytes = wide.nodes.len() * size_of::<wide::Node8>() + size_of_val(&ordered[..]);
         Self {
             wide,
             ordered,
             primitive_indices: bvh2.primitive_indices,
             triangle_count: triangles.len(),
             kernel,
+            prefetch: bytes > PREFETCH_ABOVE_BYTES,
         }
     }
 
@@ -124,6 +136,17 @@ impl Accel {
         }
         self.kernel = kernel;
         Ok(())
+    }
+
+    /// Whether the traversal prefetches the children it enters (chosen at
+    /// build from the tree's size).
+    pub fn prefetch(&self) -> bool {
+        self.prefetch
+    }
+
+    /// Turns prefetching on or off; hits are the same either way.
+    pub fn set_prefetch(&mut self, on: bool) {
+        self.prefetch = on;
     }
 
     /// Closest hit along `ray` in (0, ray.tmax).
@@ -176,6 +199,7 @@ impl Accel {
             ray.origin,
             ray.direction,
             ray.tmax,
+            self.prefetch,
         )
     }
 
@@ -328,19 +352,25 @@ mod tests {
                 .enumerate()
                 .map(|(i, t)| if i % 2 == 0 { *t } else { [Vec3::ZERO; 3] })
                 .collect();
-            for kernel in Kernel::available() {
+            // 2000 triangles fit in the caches: no prefetching by default.
+            assert!(!accel.prefetch());
+            for (kernel, prefetch) in Kernel::available()
+                .into_iter()
+                .flat_map(|k| [(k, false), (k, true)])
+            {
                 accel.set_kernel(kernel).unwrap();
+                accel.set_prefetch(prefetch);
                 let mut hits = 0;
                 for ray in &rays {
                     let b = brute_force(&tris, ray);
                     let a = accel.intersect(ray).map(|h| (h.triangle, h.t));
-                    assert_eq!(a, b, "{kernel:?} {quality:?} {ray:?}");
+                    assert_eq!(a, b, "{kernel:?} {prefetch} {quality:?} {ray:?}");
                     assert_eq!(accel.occluded(ray), b.is_some(), "{kernel:?}");
                     let b = brute_force(&even_tris, ray);
                     let a = accel
                         .intersect_where(ray, odd_rejected)
                         .map(|h| (h.triangle, h.t));
-                    assert_eq!(a, b, "{kernel:?} {quality:?} filtered {ray:?}");
+                    assert_eq!(a, b, "{kernel:?} {prefetch} {quality:?} filtered {ray:?}");
                     assert_eq!(accel.occluded_where(ray, odd_rejected), b.is_some());
                     hits += b.is_some() as u32;
                 }
