@@ -37,7 +37,23 @@ enum Command {
     Bench(commands::bench::BenchArgs),
 }
 
+/// Restores the default action of SIGPIPE, which Rust's runtime ignores:
+/// `penumbra info scene.gltf | head` then ends quietly when `head` stops
+/// reading, as other command-line tools do, instead of panicking in the
+/// next `println!`.
+#[cfg(unix)]
+#[allow(unsafe_code)]
+fn end_quietly_on_a_closed_pipe() {
+    // SAFETY: called first in `main`, before any other thread exists;
+    // setting a signal's action to SIG_DFL has no other precondition.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
+}
+
 fn main() -> ExitCode {
+    #[cfg(unix)]
+    end_quietly_on_a_closed_pipe();
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Render(a) => commands::render::run(a),

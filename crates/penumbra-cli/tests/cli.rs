@@ -704,3 +704,46 @@ fn bake_round_trip_and_errors() {
     let mean = ao.mean().x;
     assert!(mean > 0.2 && mean < 1.0, "mean kA {mean}");
 }
+
+/// Output piped into a reader that stops early (`penumbra info | head -1`)
+/// ends the program quietly, killed by SIGPIPE as other tools are, never
+/// with a panic.
+#[cfg(unix)]
+#[test]
+fn a_closed_output_pipe_ends_quietly() {
+    use std::os::unix::process::ExitStatusExt;
+    use std::process::{Command, Stdio};
+    let dir = tempfile::tempdir().unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_penumbra"))
+        .args([
+            "bench",
+            "--triangles",
+            "2000",
+            "--spp",
+            "0",
+            "--ray-resolution",
+            "64",
+        ])
+        .current_dir(dir.path())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Close the reading end before the program writes its first line.
+    drop(child.stdout.take());
+    let o = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!err.contains("panicked"), "{err}");
+    assert_eq!(
+        o.status.signal(),
+        Some(libc_sigpipe()),
+        "{:?} {err}",
+        o.status
+    );
+}
+
+/// SIGPIPE's number on Linux and the BSDs.
+#[cfg(unix)]
+fn libc_sigpipe() -> i32 {
+    13
+}
