@@ -234,12 +234,16 @@ fn prefetch(q: &Query, code: u32) {
                 size_of::<Node8>(),
             )
         };
-        let mut offset = 0;
-        while offset < bytes {
-            // SAFETY: a prefetch never faults, and the address lies
-            // inside `q.tris` or `q.wide.nodes` (checked by the slicing).
-            unsafe { _mm_prefetch::<_MM_HINT_T0>(start.wrapping_add(offset)) };
-            offset += 64;
+        // Every 64-byte line that holds a byte of [start, start + bytes):
+        // from the line of the first byte on (triangles are 48 bytes, so a
+        // leaf can start anywhere in a line).
+        let mut line = start.wrapping_sub(start as usize % 64);
+        let end = start.wrapping_add(bytes);
+        while line < end {
+            // SAFETY: a prefetch never faults; the addresses lie in the
+            // lines of `q.tris` or `q.wide.nodes` (checked by the slicing).
+            unsafe { _mm_prefetch::<_MM_HINT_T0>(line) };
+            line = line.wrapping_add(64);
         }
     }
 }
