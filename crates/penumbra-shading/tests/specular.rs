@@ -497,3 +497,23 @@ fn smooth_models_have_no_density() {
         );
     }
 }
+
+/// A direction in the surface plane (cos θo = 0) or below it sees no
+/// lobe of a one-sided smooth reflector, in `specular` as in `sample`:
+/// at grazing incidence Fresnel gives F = 1, so a lobe there would send
+/// the path along the surface with full weight.
+#[test]
+fn one_sided_reflectors_have_no_lobe_at_or_below_the_horizon() {
+    let mirror = Mirror::new(Rgb::ONE);
+    let cond = Conductor::new(Rgb::splat(0.2), Rgb::splat(3.0), FresnelModel::Exact);
+    for wo in [
+        Vec3::X,
+        Vec3::new(0.6, -0.8, 0.0),
+        Vec3::new(0.6, 0.0, -0.8),
+    ] {
+        assert_eq!(mirror.specular(wo).iter().count(), 0, "{wo}");
+        assert_eq!(cond.specular(wo).iter().count(), 0, "{wo}");
+        assert!(mirror.sample(wo, 0.5, [0.5; 2]).is_none(), "{wo}");
+        assert!(cond.sample(wo, 0.5, [0.5; 2]).is_none(), "{wo}");
+    }
+}
