@@ -440,6 +440,40 @@ fn conductor_tint_scales_normal_reflectance() {
     }
 }
 
+/// A tint keeps n's relative position g in its admissible range (module
+/// doc of `conductor.rs`): for F0 = r, κ² ≥ 0 allows
+/// n ∈ [(1 − √r)/(1 + √r), (1 + √r)/(1 − √r)]; g and the range are
+/// computed here from those closed forms.
+#[test]
+fn conductor_tint_keeps_the_relative_position_of_n() {
+    let f0 = |n: f64, k: f64| ((n - 1.0).powi(2) + k * k) / ((n + 1.0).powi(2) + k * k);
+    let g = |n: f64, k: f64| {
+        let s = f0(n, k).sqrt();
+        let (lo, hi) = ((1.0 - s) / (1.0 + s), (1.0 + s) / (1.0 - s));
+        (n - lo) / (hi - lo)
+    };
+    for (eta, k) in metals() {
+        let c = Conductor::new(eta, k, FresnelModel::Exact);
+        for t in [0.5f32, 0.8, 0.2] {
+            let tc = c.tinted(Rgb::splat(t));
+            for i in 0..3 {
+                let (n0, k0) = (eta[i] as f64, k[i] as f64);
+                let (n1, k1) = (tc.eta[i] as f64, tc.k[i] as f64);
+                assert!(
+                    (f0(n1, k1) - f0(n0, k0) * t as f64).abs() < 1e-5,
+                    "F0 scaled by {t}"
+                );
+                assert!(
+                    (g(n1, k1) - g(n0, k0)).abs() < 1e-4,
+                    "band {i}, tint {t}: g {} -> {}",
+                    g(n0, k0),
+                    g(n1, k1)
+                );
+            }
+        }
+    }
+}
+
 #[test]
 fn inverted_interface_is_reciprocal() {
     // F(θo, η) = F(θt, 1/η): light crossing either way splits alike, and
