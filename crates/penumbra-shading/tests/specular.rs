@@ -474,6 +474,19 @@ fn conductor_tint_keeps_the_relative_position_of_n() {
     }
 }
 
+/// F0 = 0 (n = 1, κ = 0) leaves n no range to move in: any tint keeps
+/// (n, κ) = (1, 0), with finite values.
+#[test]
+fn conductor_tint_of_zero_reflectance_stays_index_matched() {
+    for fresnel in MODELS {
+        let c = Conductor::new(Rgb::ONE, Rgb::ZERO, fresnel);
+        for t in [0.5f32, 1.0, 2.0] {
+            let tc = c.tinted(Rgb::splat(t));
+            assert_eq!((tc.eta, tc.k), (Rgb::ONE, Rgb::ZERO), "{fresnel:?} {t}");
+        }
+    }
+}
+
 #[test]
 fn inverted_interface_is_reciprocal() {
     // F(θo, η) = F(θt, 1/η): light crossing either way splits alike, and
