@@ -650,3 +650,14 @@ fn metallic_roughness_limits() {
     assert_eq!(g.tinted(Rgb::splat(0.5)).base_color, base * 0.5);
     assert_eq!(g.inverted().ior, 1.0 / 1.5);
 }
+
+/// α as given, α = r² from perceptual roughness (glTF), and the clamp to
+/// 10⁻⁴ (NaN and 0 alike).
+#[test]
+fn ggx_alpha_values() {
+    assert_eq!(Ggx::new(0.3).alpha(), 0.3);
+    assert_eq!(Ggx::from_roughness(0.5).alpha(), 0.25);
+    assert_eq!(Ggx::from_roughness(1.0).alpha(), 1.0);
+    assert_eq!(Ggx::new(0.0).alpha(), 1e-4);
+    assert_eq!(Ggx::new(f32::NAN).alpha(), 1e-4);
+}

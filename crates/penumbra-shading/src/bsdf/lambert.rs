@@ -115,6 +115,42 @@ mod tests {
         }
     }
 
+    /// f = ρ/π only with both directions strictly above the surface; the
+    /// pdf is 0 for a view at or below it; no delta part; a tint scales ρ.
+    #[test]
+    fn hemisphere_boundaries_tint_and_no_delta_part() {
+        let rho = Rgb::new(0.8, 0.5, 0.2);
+        let m = Lambert::new(rho);
+        let up = Vec3::new(0.3, 0.2, 0.9).normalize();
+        let down = Vec3::new(0.3, 0.2, -0.9).normalize();
+        let horizon = Vec3::X;
+        assert!(
+            (m.eval(up, up) - rho / std::f32::consts::PI)
+                .abs()
+                .max_element()
+                < 1e-7
+        );
+        for (wo, wi) in [
+            (up, down),
+            (down, up),
+            (down, down),
+            (horizon, up),
+            (up, horizon),
+        ] {
+            assert_eq!(m.eval(wo, wi), Rgb::ZERO, "{wo} {wi}");
+        }
+        assert!((m.pdf(up, up) - up.z / std::f32::consts::PI).abs() < 1e-7);
+        assert_eq!(m.pdf(down, up), 0.0);
+        assert_eq!(m.pdf(horizon, up), 0.0);
+        assert!(m.specular(up).is_empty());
+        assert_eq!(m.albedo(), rho);
+        let t = m.tinted(Rgb::new(0.5, 2.0, 1.0)).albedo();
+        assert!(
+            (t - Rgb::new(0.4, 1.0, 0.2)).abs().max_element() < 1e-7,
+            "{t}"
+        );
+    }
+
     #[test]
     fn kd_and_albedo_agree() {
         let m = Lambert::new(Rgb::new(0.5, 0.25, 1.0));
