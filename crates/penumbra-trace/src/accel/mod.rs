@@ -49,7 +49,8 @@ pub struct Accel {
 /// traversal prefetches: about a core's L2 cache. Below it the tree stays
 /// in cache and the prefetches only cost instructions (measured: a 5 %
 /// slower Cornell box, 32 triangles); on the 1M-triangle bench sphere
-/// (56 MB) they make random rays 1.2–1.4× faster.
+/// (56 MB) they made random rays 1.4–1.5× faster (medians of runs
+/// alternating the builds).
 const PREFETCH_ABOVE_BYTES: usize = 2 << 20;
 
 /// BVH build quality preset.

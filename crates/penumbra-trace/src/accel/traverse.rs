@@ -6,7 +6,7 @@
 //! entry distances, so that popped entries beyond the closest hit so far
 //! are dropped. Occlusion rays push without sorting and stop at the first
 //! hit. On trees larger than the caches, each node's entered children are
-//! prefetched before they are sorted, so that their cache misses overlap
+//! prefetched as they are sorted or pushed, so that their cache misses overlap
 //! (memory-level parallelism) instead of coming one after another. The
 //! same code is compiled twice: portable (LLVM picks the vector
 //! width it may) and for AVX2, chosen at run time; both make the same
@@ -291,13 +291,6 @@ fn closest<const AVX2: bool>(
                     code = node.child[mask.trailing_zeros() as usize];
                     continue;
                 }
-                if q.prefetch {
-                    let mut m = mask;
-                    while m != 0 {
-                        prefetch(q, node.child[m.trailing_zeros() as usize]);
-                        m &= m - 1;
-                    }
-                }
                 // Hit slots sorted by decreasing entry distance.
                 let mut hits = [Entry { code: 0, t: 0.0 }; WIDTH];
                 let mut n = 0;
@@ -305,6 +298,9 @@ fn closest<const AVX2: bool>(
                 while m != 0 {
                     let i = m.trailing_zeros() as usize;
                     m &= m - 1;
+                    if q.prefetch {
+                        prefetch(q, node.child[i]);
+                    }
                     let e = Entry {
                         code: node.child[i],
                         t: t[i],
