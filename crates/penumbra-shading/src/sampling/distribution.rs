@@ -47,11 +47,13 @@ impl Distribution1D {
             return None;
         }
         let target = u as f64 * self.total;
-        // First index whose cdf exceeds the target (skips zero-weight items).
-        let i = self
-            .cdf
-            .partition_point(|&c| c <= target)
-            .min(self.cdf.len() - 1);
+        // First index whose cdf exceeds the target (skips zero-weight
+        // items); for u ≥ 1, where none does, the last item of positive
+        // weight (the first whose cdf reaches the total), as u → 1⁻ gives.
+        let i = match self.cdf.partition_point(|&c| c <= target) {
+            i if i < self.cdf.len() => i,
+            _ => self.cdf.partition_point(|&c| c < self.total),
+        };
         Some((i, self.pmf(i)))
     }
 
@@ -117,8 +119,9 @@ impl Distribution2D {
 
     /// Density at (u, v) with respect to du dv.
     pub fn pdf(&self, uv: glam::Vec2) -> f32 {
+        // An all-zero grid needs no test of its own: both factors are 0.
         let h = self.rows.len();
-        if h == 0 || self.marginal.is_empty() {
+        if h == 0 {
             return 0.0;
         }
         let row = ((uv.y.clamp(0.0, 1.0) * h as f32) as usize).min(h - 1);
@@ -129,6 +132,94 @@ impl Distribution2D {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Weights (1, 0, 3): cdf (1, 1, 4), pmf (1/4, 0, 3/4). Items with no
+    /// weight, negative or non-finite weights are never chosen; u = 1/4
+    /// lands on the cdf step shared by items 0 and 1 and picks item 2; u ≥ 1
+    /// picks the last item of positive weight, not a trailing zero one.
+    #[test]
+    fn discrete_values_by_hand() {
+        let d = Distribution1D::new([1.0, 0.0, 3.0]);
+        assert!(!d.is_empty());
+        assert_eq!(d.len(), 3);
+        assert_eq!([d.pmf(0), d.pmf(1), d.pmf(2)], [0.25, 0.0, 0.75]);
+        assert_eq!(d.pmf(3), 0.0);
+        for (u, i) in [(0.0, 0), (0.2499, 0), (0.25, 2), (0.999, 2), (1.0, 2)] {
+            assert_eq!(d.sample(u), Some((i, d.pmf(i))), "u = {u}");
+        }
+        let trailing = Distribution1D::new([1.0, 3.0, 0.0, -2.0, f32::NAN]);
+        assert_eq!(trailing.len(), 5);
+        assert_eq!(trailing.sample(1.0), Some((1, 0.75)));
+        assert_eq!(trailing.sample(0.9), Some((1, 0.75)));
+        for nothing in [
+            Distribution1D::new([]),
+            Distribution1D::new([0.0, -1.0, f32::INFINITY]),
+        ] {
+            assert!(nothing.is_empty());
+            assert_eq!(nothing.sample(0.5), None);
+            assert_eq!(nothing.pmf(0), 0.0, "no NaN from 0/0");
+        }
+        assert_eq!(Distribution1D::new([0.0, 0.0]).len(), 2);
+    }
+
+    /// The continuous forms of (1, 0, 3) on [0,1) in thirds: density
+    /// 3 · pmf = (0.75, 0, 2.25). u = 0.5 → target 2 in the last cell
+    /// (cdf 1 → 4), a third of the way: x = (2 + 1/3)/3.
+    #[test]
+    fn continuous_values_by_hand() {
+        let d = Distribution1D::new([1.0, 0.0, 3.0]);
+        let (x, p, cell) = d.sample_continuous(0.5).unwrap();
+        assert!((x - 7.0 / 9.0).abs() < 1e-6, "{x}");
+        assert_eq!((p, cell), (2.25, 2));
+        let (x, p, cell) = d.sample_continuous(0.125).unwrap();
+        assert!((x - 1.0 / 6.0).abs() < 1e-6, "{x}");
+        assert_eq!((p, cell), (0.75, 0));
+        for (x, p) in [
+            (0.1, 0.75),
+            (0.5, 0.0),
+            (0.9, 2.25),
+            (1.0, 2.25),
+            (-0.5, 0.75),
+        ] {
+            assert_eq!(d.pdf_continuous(x), p, "x = {x}");
+        }
+        assert_eq!(Distribution1D::new([]).pdf_continuous(0.5), 0.0);
+        // x stays inside [0, 1) where (i + t)/n rounds up to 1 in f32
+        // (u = 1 − 2⁻²⁴: x = 0.99999997 in f64) and at u = 1.
+        for u in [1.0 - f32::EPSILON / 2.0, 1.0] {
+            let (x, _, cell) = d.sample_continuous(u).unwrap();
+            assert!(x < 1.0 && cell == 2, "u = {u}: x = {x}");
+        }
+    }
+
+    /// The grid (1, 3 / 0, 4) (rows v, columns u), Σw = 8: p = w · 4/8,
+    /// (0.5, 1.5 / 0, 2). u = (0.5, 0.5) picks row 1 at its start (row
+    /// totals 4, 4) and the middle of its non-zero cell: (0.75, 0.5), p = 2.
+    #[test]
+    fn grid_values_by_hand() {
+        let g = Distribution2D::new(2, 2, &[1.0, 3.0, 0.0, 4.0]);
+        assert!(!g.is_empty());
+        for (u, v, p) in [
+            (0.25, 0.25, 0.5),
+            (0.75, 0.25, 1.5),
+            (0.25, 0.75, 0.0),
+            (0.75, 0.75, 2.0),
+            (1.0, 1.0, 2.0),
+        ] {
+            assert_eq!(g.pdf(glam::Vec2::new(u, v)), p, "({u}, {v})");
+        }
+        let (uv, p) = g.sample([0.5, 0.5]).unwrap();
+        assert!((uv - glam::Vec2::new(0.75, 0.5)).length() < 1e-6, "{uv}");
+        assert_eq!(p, 2.0);
+        for empty in [
+            Distribution2D::new(2, 2, &[0.0; 4]),
+            Distribution2D::new(0, 0, &[]),
+        ] {
+            assert!(empty.is_empty());
+            assert_eq!(empty.sample([0.5, 0.5]), None);
+            assert_eq!(empty.pdf(glam::Vec2::new(0.5, 0.5)), 0.0);
+        }
+    }
 
     #[test]
     fn frequencies_match_weights() {
