@@ -51,8 +51,7 @@ impl std::fmt::Debug for EnvironmentMap {
 
 impl PartialEq for EnvironmentMap {
     fn eq(&self, o: &Self) -> bool {
-        self.width == o.width
-            && self.height == o.height
+        (self.width, self.height) == (o.width, o.height)
             && self.to_map == o.to_map
             && self.texels == o.texels
     }

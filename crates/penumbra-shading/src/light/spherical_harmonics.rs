@@ -259,6 +259,9 @@ mod tests {
                 ((e - want) / want).abs().max_element() < 1e-5,
                 "n {n}: {e} vs {want}"
             );
+            // Band 0 alone: L00 Y00 = √(4π) L / √(4π) = L.
+            let r = sh.radiance(n);
+            assert!(((r - l) / l).abs().max_element() < 1e-5, "{r} vs {l}");
         }
         // A constant map projects to the same (the texel integrals are exact).
         let map = map_of(64, 32, 0.3, |_| l);
