@@ -387,3 +387,73 @@ fn specular_only_sampling_white_furnace_matches_quadrature() {
         }
     }
 }
+
+/// The lobe-selection probability by hand (it changes the noise, not the
+/// mean, so the statistical tests above cannot see it): p = a_s/(a_d + a_s)
+/// with a_d = π mean(kd⁺), a_s = mean(ks⁺) × the lobe's albedo at normal
+/// incidence. With s = 1/√2 and I(k) = (1 − s^(k+1))/(k+1):
+/// - Notes, γ = 1, kd mean 0.2 (a negative band counts 0), ks = 0.5:
+///   a_s = 0.5 · 8π I(2) = 2.7078292, a_d = 0.2π, p = 0.8116635;
+/// - MaxBlinn, γ = 10, kd = 0.1, ks = 0.3: A = 8π (2 I(13) − I(11)) =
+///   1.5006715, p = 0.5889908;
+/// - kd = 0 → 1, ks = 0 → 0, both 0 or an infinite ks → ½.
+#[test]
+fn specular_probability_by_hand() {
+    let p = |kd: Rgb, ks: Rgb, g: f32, v: PhongVariant| {
+        PhongBlinn::new(kd, ks, g, v).specular_probability()
+    };
+    let notes = p(
+        Rgb::new(-1.0, 0.6, 0.0),
+        Rgb::splat(0.5),
+        1.0,
+        PhongVariant::Notes,
+    );
+    assert!((notes - 0.811_663_5).abs() < 1e-5, "{notes}");
+    let max = p(
+        Rgb::splat(0.1),
+        Rgb::new(0.3, 0.6, 0.0),
+        10.0,
+        PhongVariant::MaxBlinn,
+    );
+    assert!((max - 0.588_990_8).abs() < 1e-5, "{max}");
+    assert_eq!(
+        p(Rgb::ZERO, Rgb::splat(0.5), 5.0, PhongVariant::Normalized),
+        1.0
+    );
+    assert_eq!(
+        p(Rgb::splat(0.5), Rgb::ZERO, 5.0, PhongVariant::Normalized),
+        0.0
+    );
+    assert_eq!(p(Rgb::ZERO, Rgb::ZERO, 5.0, PhongVariant::Notes), 0.5);
+    assert_eq!(
+        p(
+            Rgb::splat(0.5),
+            Rgb::splat(f32::INFINITY),
+            5.0,
+            PhongVariant::Notes
+        ),
+        0.5
+    );
+}
+
+/// An infinite exponent makes the specular lobe's density infinite at the
+/// mirror direction: such samples are refused, and every sample returned
+/// has a finite positive pdf and a finite weight. (NaN is refused by the
+/// constructor.)
+#[test]
+fn degenerate_exponents_give_no_infinite_samples() {
+    let mut rng = TestRng::new(17);
+    let m = PhongBlinn::new(
+        Rgb::splat(0.2),
+        Rgb::splat(0.5),
+        f32::INFINITY,
+        PhongVariant::Normalized,
+    );
+    for _ in 0..500 {
+        let wo = upper(&mut rng);
+        if let Some(s) = m.sample(wo, rng.next_f32(), rng.next_2d()) {
+            assert!(s.pdf > 0.0 && s.pdf.is_finite(), "pdf {}", s.pdf);
+            assert!(s.weight.is_finite(), "weight {}", s.weight);
+        }
+    }
+}
