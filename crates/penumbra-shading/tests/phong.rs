@@ -394,8 +394,8 @@ fn specular_only_sampling_white_furnace_matches_quadrature() {
 /// incidence. With s = 1/√2 and I(k) = (1 − s^(k+1))/(k+1):
 /// - Notes, γ = 1, kd mean 0.2 (a negative band counts 0), ks = 0.5:
 ///   a_s = 0.5 · 8π I(2) = 2.7078292, a_d = 0.2π, p = 0.8116635;
-/// - MaxBlinn, γ = 10, kd = 0.1, ks = 0.3: A = 8π (2 I(13) − I(11)) =
-///   1.5006715, p = 0.5889908;
+/// - MaxBlinn, γ = 10, kd = 0.1, ks = (0.3, 0.6, 0) (mean 0.3):
+///   A = 8π (2 I(13) − I(11)) = 1.5006715, p = 0.5889908;
 /// - kd = 0 → 1, ks = 0 → 0, both 0 or an infinite ks → ½.
 #[test]
 fn specular_probability_by_hand() {
