@@ -51,6 +51,12 @@ fn chi2(
             resolution: 24,
         },
         || {
+            // A sampler that (almost) never yields a non-delta direction
+            // fails here, not after hours of retries.
+            assert!(
+                attempts.get() < 100 * CHI2_SAMPLES,
+                "{name}: under 1 % of the samples are non-delta"
+            );
             for _ in 0..10_000 {
                 attempts.set(attempts.get() + 1);
                 if let Some(s) = sample(&mut rng)
