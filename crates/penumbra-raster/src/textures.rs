@@ -19,8 +19,9 @@ use crate::gpu::{
     WRAP_MIRROR, WRAP_REPEAT,
 };
 use half::f16;
+pub use penumbra_scene::mipmap::{MipLevel, mip_chain};
 use penumbra_scene::texture::Wrap;
-use penumbra_scene::{AlphaMode, Scene, Texels, Texture, TextureId};
+use penumbra_scene::{AlphaMode, Scene, Texels, TextureId};
 use penumbra_shading::Rgb;
 use penumbra_shading::color::{linear_to_srgb, srgb_to_linear};
 use std::collections::BTreeMap;
@@ -82,50 +83,6 @@ impl TexelFormat {
             }
         }
     }
-}
-
-/// One level of a mip chain.
-#[derive(Clone, Debug, PartialEq)]
-pub struct MipLevel {
-    pub width: u32,
-    pub height: u32,
-    /// Row-major, top row first.
-    pub texels: Vec<Rgb>,
-}
-
-/// The next level: half the size (at least 1), each texel the mean of the
-/// 2×2 texels above it (a row or column past an odd edge repeats the
-/// edge).
-pub fn downsample(level: &MipLevel) -> MipLevel {
-    let (w, h) = (level.width as usize, level.height as usize);
-    let (nw, nh) = ((w / 2).max(1), (h / 2).max(1));
-    let at = |x: usize, y: usize| level.texels[y.min(h - 1) * w + x.min(w - 1)];
-    let texels = (0..nh)
-        .flat_map(|y| (0..nw).map(move |x| (x, y)))
-        .map(|(x, y)| {
-            let (x0, y0) = (2 * x, 2 * y);
-            (at(x0, y0) + at(x0 + 1, y0) + at(x0, y0 + 1) + at(x0 + 1, y0 + 1)) * 0.25
-        })
-        .collect();
-    MipLevel {
-        width: nw as u32,
-        height: nh as u32,
-        texels,
-    }
-}
-
-/// Level 0 (the texture itself) down to 1×1.
-pub fn mip_chain(t: &Texture) -> Vec<MipLevel> {
-    let mut levels = vec![MipLevel {
-        width: t.width,
-        height: t.height,
-        texels: t.texels.to_linear(),
-    }];
-    while let Some(last) = levels.last().filter(|l| l.width > 1 || l.height > 1) {
-        let next = downsample(last);
-        levels.push(next);
-    }
-    levels
 }
 
 /// A texel as two words of half floats: (r, g), (b, 0).
@@ -327,7 +284,7 @@ impl TextureTable {
 mod tests {
     use super::*;
     use glam::{Affine2, Vec2};
-    use penumbra_scene::Material;
+    use penumbra_scene::{Material, Texture};
 
     fn texture(width: u32, height: u32, texels: Vec<Rgb>) -> Texture {
         Texture {
@@ -339,24 +296,6 @@ mod tests {
             uv_transform: Affine2::IDENTITY,
             uv_set: 0,
         }
-    }
-
-    #[test]
-    fn mip_levels_are_box_means_down_to_one_texel() {
-        // 3×2: odd width repeats the last column.
-        let v = |x: f32| Rgb::splat(x);
-        let t = texture(3, 2, vec![v(0.0), v(4.0), v(8.0), v(2.0), v(6.0), v(10.0)]);
-        let chain = mip_chain(&t);
-        assert_eq!(chain.len(), 2);
-        assert_eq!((chain[1].width, chain[1].height), (1, 1));
-        // (0 + 4 + 2 + 6) / 4 = 3: texels (0,0), (1,0), (0,1), (1,1).
-        assert_eq!(chain[1].texels, vec![v(3.0)]);
-        let big = texture(8, 4, vec![v(1.0); 32]);
-        let sizes: Vec<_> = mip_chain(&big)
-            .iter()
-            .map(|l| (l.width, l.height))
-            .collect();
-        assert_eq!(sizes, [(8, 4), (4, 2), (2, 1), (1, 1)]);
     }
 
     #[test]

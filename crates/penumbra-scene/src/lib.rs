@@ -14,6 +14,7 @@ pub mod fingerprint;
 pub mod load;
 pub mod material;
 pub mod mesh;
+pub mod mipmap;
 pub mod paths;
 pub mod plane;
 pub mod primitives;
