@@ -26,6 +26,7 @@ pub enum Wrap {
 
 impl Wrap {
     /// The texel index for index `i` of an axis of `n` texels.
+    #[inline]
     pub fn index(self, i: i64, n: i64) -> usize {
         // Inside the axis every mode is the identity (and no division).
         if (0..n).contains(&i) {
@@ -156,10 +157,13 @@ impl Texture {
         }
         let x = uv.x * self.width as f32 - 0.5;
         let y = uv.y * self.height as f32 - 0.5;
-        let (x0, y0) = (x.floor(), y.floor());
-        let (fx, fy) = (x - x0, y - y0);
+        let (x0, y0) = (floor_to_int(x), floor_to_int(y));
+        // In [0, 1) (clamped only where |x| ≥ 2⁶³ saturates the index).
+        let (fx, fy) = (
+            (x - x0 as f32).clamp(0.0, 1.0),
+            (y - y0 as f32).clamp(0.0, 1.0),
+        );
         // The two columns and the two rows of the 2×2 texels, wrapped once.
-        let (x0, y0) = (x0 as i64, y0 as i64);
         let [left, right] = [x0, x0.saturating_add(1)].map(|i| self.wrap[0].index(i, w));
         let [top, bottom] =
             [y0, y0.saturating_add(1)].map(|i| self.wrap[1].index(i, h) * self.width as usize);
@@ -174,6 +178,15 @@ impl Texture {
             Texels::Unorm8(t) => bilinear(|i| decode_unorm8(t[i]), corners, fx, fy),
         }
     }
+}
+
+/// ⌊x⌋ as an integer, without a call to libm's `floorf` (x86-64's
+/// baseline has no rounding instruction): exact wherever |x| < 2⁶³, as
+/// every f32 of magnitude ≥ 2²³ is an integer already; NaN gives 0.
+#[inline(always)]
+fn floor_to_int(x: f32) -> i64 {
+    let i = x as i64;
+    if (i as f32) > x { i - 1 } else { i }
 }
 
 /// The bilinear blend of texels [top left, top right, bottom left, bottom
@@ -200,6 +213,28 @@ mod tests {
             uv_transform: Affine2::IDENTITY,
             uv_set,
         }
+    }
+
+    #[test]
+    fn floor_to_int_is_floor() {
+        for x in [
+            -2.5f32,
+            -2.0,
+            -1e-30,
+            -0.0,
+            0.0,
+            0.3,
+            0.999_999_94,
+            1.0,
+            7.5,
+            -8_388_609.0,
+            3e9,
+            -1e15,
+        ] {
+            assert_eq!(floor_to_int(x), x.floor() as i64, "{x}");
+        }
+        assert_eq!(floor_to_int(f32::NAN), 0);
+        assert_eq!(floor_to_int(1e30), i64::MAX);
     }
 
     #[test]
