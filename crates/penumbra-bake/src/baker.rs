@@ -16,6 +16,7 @@ use penumbra_trace::accel::BuildQuality;
 use penumbra_trace::geometry::{SceneGeometry, SurfaceHit};
 use penumbra_trace::integrator::TraceContext;
 use penumbra_trace::lights::LightSampler;
+use penumbra_trace::texture_lod::RayCone;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
@@ -93,6 +94,8 @@ impl<'a> Prepared<'a> {
             geometry: &self.geometry,
             lights: &self.lights,
             settings,
+            // Bake paths start on surfaces: no camera footprint.
+            camera_cone: RayCone::POINT,
         }
     }
 

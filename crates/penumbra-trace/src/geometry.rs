@@ -4,6 +4,7 @@
 
 use crate::accel::{Accel, BuildQuality, Hit};
 use crate::ray::Ray;
+use crate::texture_lod::TextureLevels;
 
 /// Culled back faces a camera ray passes through before it gives up.
 pub const MAX_CULLED_LAYERS: usize = 64;
@@ -85,6 +86,8 @@ pub struct SceneGeometry {
     alpha_uvs: Vec<[Vec2; 3]>,
     /// The coverage textures of alpha-tested instances.
     alpha_textures: Vec<Texture>,
+    /// The mip chains of the textures that shape BSDFs.
+    pub texture_levels: TextureLevels,
 }
 
 impl SceneGeometry {
@@ -136,12 +139,19 @@ impl SceneGeometry {
                 alpha,
             });
         }
-        let start = std::time::Instant::now();
-        let accel = Accel::build(&triangles, quality);
-        let accel_seconds = start.elapsed().as_secs_f64();
+        // The mip chains build beside the BVH (each is parallel inside).
+        let ((accel, accel_seconds), texture_levels) = rayon::join(
+            || {
+                let start = std::time::Instant::now();
+                let accel = Accel::build(&triangles, quality);
+                (accel, start.elapsed().as_secs_f64())
+            },
+            || TextureLevels::new(scene),
+        );
         Self {
             accel,
             accel_seconds,
+            texture_levels,
             triangles,
             sources,
             instances,
@@ -313,6 +323,28 @@ impl SceneGeometry {
                     + uv[idx[2] as usize] * b2
             }
             None => Vec2::new(b1, b2),
+        })
+    }
+
+    /// ½ log2(A_uv / A_world) of `triangle` for UV sets 0 and 1 (the
+    /// barycentric corners (0, 0), (1, 0), (0, 1) for a set the mesh
+    /// lacks): how many UV units a world length spans there, as a log, for
+    /// [`crate::texture_lod::Footprint`]. −∞ where the UVs are degenerate.
+    pub fn uv_density(&self, scene: &Scene, triangle: u32) -> [f32; 2] {
+        let src = self.sources[triangle as usize];
+        let mesh = &scene.meshes[scene.instances[src.instance as usize].mesh];
+        let idx = mesh.indices[src.local as usize].map(|i| i as usize);
+        let world = self.area(triangle);
+        [0, 1].map(|set| {
+            let uv_area = match mesh.uv_set(set) {
+                Some(uv) => {
+                    0.5 * (uv[idx[1]] - uv[idx[0]])
+                        .perp_dot(uv[idx[2]] - uv[idx[0]])
+                        .abs()
+                }
+                None => 0.5,
+            };
+            0.5 * (uv_area / world).log2()
         })
     }
 

@@ -11,6 +11,7 @@ pub mod lights;
 pub mod ray;
 pub mod render;
 pub mod stats;
+pub mod texture_lod;
 
 pub use render::{
     Crop, MIN_SPP_FOR_TARGET, Progress, RenderOptions, RenderOutput, Resume, Stop, render,

@@ -12,6 +12,7 @@ use crate::accel::BuildQuality;
 use crate::geometry::SceneGeometry;
 use crate::integrator::TraceContext;
 use crate::lights::LightSampler;
+use crate::texture_lod::RayCone;
 use glam::Vec3;
 use penumbra_image::{Film, FilmTile, Image, noise_rel_mse};
 use penumbra_scene::{Camera, RenderSettings, Scene};
@@ -183,14 +184,15 @@ pub fn render(scene: &Scene, settings: &RenderSettings, options: &RenderOptions)
     let geometry = SceneGeometry::build(scene, options.build_quality);
     let lights = LightSampler::new(scene, &geometry);
     let build_seconds = t0.elapsed().as_secs_f64();
+    let (w, h) = (settings.width, settings.height);
+    let camera = scene_camera_for(scene, w, h);
     let ctx = TraceContext {
         scene,
         geometry: &geometry,
         lights: &lights,
         settings,
+        camera_cone: RayCone::camera(&camera, h),
     };
-    let (w, h) = (settings.width, settings.height);
-    let camera = scene_camera_for(scene, w, h);
     let crop = options.crop.clone().unwrap_or(Crop { x: 0..w, y: 0..h });
     assert!(crop.x.end <= w && crop.y.end <= h, "crop outside the image");
     let samples = options.samples.clone().unwrap_or(0..settings.spp);

@@ -17,7 +17,7 @@ pub fn li(ctx: &TraceContext, ray: &Ray, sampler: &mut Sampler) -> PathSample {
         return ctx.first_hit_aovs(None, &hit);
     }
     let wo = -ray.direction;
-    let shading = ctx.shading(&hit, wo);
+    let shading = ctx.shading(&hit, wo, ctx.camera_cone.width_at(hit.t));
     let mut out = ctx.first_hit_aovs(shading.as_ref(), &hit);
     let Some(s) = shading else { return out };
     out.radiance = Rgb::splat(visibility(ctx, &s, sampler.next_2d()));

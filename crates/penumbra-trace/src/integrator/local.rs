@@ -23,7 +23,7 @@ pub fn li(ctx: &TraceContext, ray: &Ray, sampler: &mut Sampler) -> PathSample {
         return out;
     }
     let mut radiance = ctx.emitted(&hit, wo);
-    let shading = ctx.shading(&hit, wo);
+    let shading = ctx.shading(&hit, wo, ctx.camera_cone.width_at(hit.t));
     let mut out = ctx.first_hit_aovs(shading.as_ref(), &hit);
     if let Some(s) = shading {
         radiance += ctx.direct_light(&s, sampler, false);

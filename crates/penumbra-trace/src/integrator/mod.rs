@@ -11,6 +11,7 @@ pub use path::RadianceSink;
 use crate::geometry::{SceneGeometry, SurfaceHit};
 use crate::lights::LightSampler;
 use crate::ray::{Ray, offset_ray_origin};
+use crate::texture_lod::{Footprint, RayCone};
 use glam::Vec3;
 use penumbra_scene::{IntegratorKind, RenderSettings, Scene};
 use penumbra_shading::bsdf::Bsdf;
@@ -36,6 +37,9 @@ pub struct TraceContext<'a> {
     pub geometry: &'a SceneGeometry,
     pub lights: &'a LightSampler,
     pub settings: &'a RenderSettings,
+    /// The footprint of a camera ray ([`RayCone::POINT`] where no camera
+    /// shoots the rays: textures are then read at level 0 first).
+    pub camera_cone: RayCone,
 }
 
 /// Local shading state at a surface hit, oriented towards the outgoing
@@ -67,12 +71,33 @@ impl TraceContext<'_> {
     /// when a one-sided material is seen from its back (black, absorbing).
     /// Transmissive materials are always two-sided: seen from the back their
     /// relative index is inverted (the ray is inside the medium).
-    pub(crate) fn shading(&self, hit: &SurfaceHit, wo: Vec3) -> Option<Shading> {
+    ///
+    /// `cone_width` is the width of the arriving ray's cone at the hit: the
+    /// textures are filtered over it ([`crate::texture_lod`]; 0 reads
+    /// level 0).
+    pub(crate) fn shading(&self, hit: &SurfaceHit, wo: Vec3, cone_width: f32) -> Option<Shading> {
         let material = &self.scene.materials[hit.material];
         let (mut ng, mut ns) = (hit.ng, hit.ns);
         let mut bsdf = material.bsdf;
+        let filtered = material.albedo_texture.is_some()
+            || material.metallic_roughness_texture.is_some()
+            || material.normal_map.is_some();
+        let footprint = if cone_width > 0.0 && filtered {
+            Footprint::new(
+                cone_width,
+                wo.dot(ng),
+                self.geometry.uv_density(self.scene, hit.triangle),
+            )
+        } else {
+            Footprint(None)
+        };
+        let lookup = |t| {
+            self.geometry
+                .texture_levels
+                .lookup(self.scene, t, hit.uvs, footprint)
+        };
         if let Some(t) = material.albedo_texture {
-            bsdf = bsdf.tinted(self.scene.textures[t].lookup(hit.uvs));
+            bsdf = bsdf.tinted(lookup(t));
         }
         // glTF COLOR_0 multiplies the base colour (as the texture does).
         if hit.color != Vec3::ONE {
@@ -82,7 +107,7 @@ impl TraceContext<'_> {
         if let (Some(t), Bsdf::MetallicRoughness(mut m)) =
             (material.metallic_roughness_texture, bsdf)
         {
-            let texel = self.scene.textures[t].lookup(hit.uvs);
+            let texel = lookup(t);
             m.roughness *= texel.y;
             m.metallic *= texel.z;
             bsdf = Bsdf::MetallicRoughness(m);
@@ -94,7 +119,7 @@ impl TraceContext<'_> {
                 .geometry
                 .tangent_at(self.scene, hit.triangle, hit.b1, hit.b2)
         {
-            let texel = self.scene.textures[map.texture].lookup(hit.uvs);
+            let texel = lookup(map.texture);
             let mapped = map.perturb(texel, ns, t);
             if mapped.dot(ng) > 0.0 {
                 ns = mapped;

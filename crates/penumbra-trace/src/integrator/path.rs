@@ -15,6 +15,7 @@
 use super::{PathSample, Shading, TraceContext};
 use crate::lights::Emitter;
 use crate::ray::Ray;
+use crate::texture_lod::RayCone;
 use glam::Vec3;
 use penumbra_shading::Rgb;
 use penumbra_shading::sampling::{Sampler, power_heuristic};
@@ -65,6 +66,8 @@ pub(crate) struct PathState {
     pub prev_point: Vec3,
     /// Segments so far, counting `ray`.
     pub depth: u32,
+    /// The ray's footprint, for texture filtering.
+    pub cone: RayCone,
 }
 
 pub fn li(
@@ -85,6 +88,7 @@ pub fn li(
         prev_bsdf_pdf: None,
         prev_point: camera_ray.origin,
         depth: 1,
+        cone: ctx.camera_cone,
     };
     walk(ctx, start, sampler, max_depth, &mut radiance, &mut out);
     out.radiance = radiance;
@@ -152,7 +156,11 @@ pub(crate) fn walk<S: RadianceSink>(
                 st.beta * le * weight,
             );
         }
-        let shading = ctx.shading(&hit, wo);
+        let cone = RayCone {
+            width: st.cone.width_at(hit.t),
+            spread: st.cone.spread,
+        };
+        let shading = ctx.shading(&hit, wo, cone.width);
         if st.depth == 1 {
             *aov = ctx.first_hit_aovs(shading.as_ref(), &hit);
         }
@@ -161,7 +169,7 @@ pub(crate) fn walk<S: RadianceSink>(
             return;
         }
         next_event(ctx, &s, sampler, st.beta, st.depth, sink);
-        match scatter(ctx, &s, sampler, st.beta, st.eta_scale, st.depth) {
+        match scatter(ctx, &s, sampler, st.beta, st.eta_scale, st.depth, cone) {
             Some(next) => st = next,
             None => return,
         }
@@ -213,9 +221,9 @@ pub(crate) fn next_event<S: RadianceSink>(
 }
 
 /// BSDF sampling at `s`, the end of segment `depth` of a path of throughput
-/// `beta` (and η² product `eta_scale`): the next segment, or `None` when
-/// the path ends (no sample, a direction on the wrong side, Russian
-/// roulette).
+/// `beta` (and η² product `eta_scale`) whose cone at `s` is `cone`: the
+/// next segment, or `None` when the path ends (no sample, a direction on
+/// the wrong side, Russian roulette).
 pub(crate) fn scatter(
     ctx: &TraceContext,
     s: &Shading,
@@ -223,6 +231,7 @@ pub(crate) fn scatter(
     beta: Rgb,
     eta_scale: f32,
     depth: u32,
+    cone: RayCone,
 ) -> Option<PathState> {
     let bs = s
         .bsdf
@@ -250,5 +259,6 @@ pub(crate) fn scatter(
         prev_bsdf_pdf: (!bs.delta).then_some(bs.pdf),
         prev_point: s.hit.p,
         depth,
+        cone: cone.scattered(0.0, (!bs.delta).then_some(bs.pdf), ctx.settings.spp),
     })
 }

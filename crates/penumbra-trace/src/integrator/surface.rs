@@ -10,6 +10,7 @@
 use super::path::{RadianceSink, next_event, scatter, walk};
 use super::{PathSample, Shading, TraceContext, ao};
 use crate::geometry::SurfaceHit;
+use crate::texture_lod::RayCone;
 use penumbra_shading::Rgb;
 use penumbra_shading::bsdf::{Bsdf, Lambert};
 use penumbra_shading::sampling::Sampler;
@@ -22,7 +23,7 @@ impl TraceContext<'_> {
         if hit.light.is_some() {
             return None;
         }
-        self.shading(hit, hit.ng)
+        self.shading(hit, hit.ng, 0.0)
     }
 
     /// One sample of the ambient-occlusion term kA at `hit` (0 or 1), with
@@ -62,7 +63,7 @@ impl TraceContext<'_> {
         let max_depth = bounces.saturating_add(2);
         let beta = Rgb::ONE;
         next_event(self, &s, sampler, beta, 1, sink);
-        if let Some(next) = scatter(self, &s, sampler, beta, 1.0, 1) {
+        if let Some(next) = scatter(self, &s, sampler, beta, 1.0, 1, RayCone::POINT) {
             walk(
                 self,
                 next,

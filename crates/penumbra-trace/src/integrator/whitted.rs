@@ -15,6 +15,7 @@
 
 use super::{PathSample, TraceContext};
 use crate::ray::Ray;
+use crate::texture_lod::RayCone;
 use penumbra_shading::Rgb;
 use penumbra_shading::sampling::Sampler;
 
@@ -23,6 +24,7 @@ pub fn li(ctx: &TraceContext, camera_ray: &Ray, sampler: &mut Sampler) -> PathSa
     out.radiance = trace(
         ctx,
         camera_ray,
+        ctx.camera_cone,
         sampler,
         1,
         &mut Some(&mut out_aovs(&mut out)),
@@ -39,10 +41,12 @@ fn out_aovs(out: &mut PathSample) -> FirstHit<'_> {
     FirstHit { out }
 }
 
-/// Radiance along `ray`, which is path segment number `depth`.
+/// Radiance along `ray` (footprint `cone`), which is path segment number
+/// `depth`.
 fn trace(
     ctx: &TraceContext,
     ray: &Ray,
+    cone: RayCone,
     sampler: &mut Sampler,
     depth: u32,
     first: &mut Option<&mut FirstHit<'_>>,
@@ -69,7 +73,12 @@ fn trace(
         return ctx.geometry.area_lights[l as usize].emitted(hit.ng, wo);
     }
     let mut radiance = ctx.emitted(&hit, wo);
-    let shading = ctx.shading(&hit, wo);
+    // Delta bounces keep the cone's spread (curvature ignored).
+    let cone = RayCone {
+        width: cone.width_at(hit.t),
+        spread: cone.spread,
+    };
+    let shading = ctx.shading(&hit, wo, cone.width);
     if let Some(f) = first.take() {
         *f.out = ctx.first_hit_aovs(shading.as_ref(), &hit);
     }
@@ -88,7 +97,7 @@ fn trace(
             continue;
         }
         let next = ctx.spawn(&s, wi, f32::INFINITY);
-        radiance += throughput * trace(ctx, &next, sampler, depth + 1, &mut None);
+        radiance += throughput * trace(ctx, &next, cone, sampler, depth + 1, &mut None);
     }
     radiance
 }
@@ -124,6 +133,7 @@ mod tests {
             geometry: &geometry,
             lights: &lights,
             settings: &settings,
+            camera_cone: crate::texture_lod::RayCone::POINT,
         };
         for deg in [0.0f32, 15.0, 30.0, 45.0, 60.0, 75.0] {
             let th = deg.to_radians();
@@ -134,7 +144,7 @@ mod tests {
             for _ in 0..2 {
                 let hit = ctx.geometry.intersect(ctx.scene, &ray).expect("slab hit");
                 let s = ctx
-                    .shading(&hit, -ray.direction)
+                    .shading(&hit, -ray.direction, 0.0)
                     .expect("glass is two-sided");
                 let (wi_local, _) = s
                     .bsdf

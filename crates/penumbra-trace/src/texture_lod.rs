@@ -1,0 +1,350 @@
+//! Texture level of detail from ray cones (Amanatides 1984; Akenine-Möller
+//! et al. 2019, "Texture Level of Detail Strategies for Real-Time Ray
+//! Tracing", Ray Tracing Gems ch. 20).
+//!
+//! A ray carries a cone: its width `w` at the ray's origin and its spread
+//! angle `γ`, so at distance t it is `w + γ t` wide. One lookup stands for
+//! the whole footprint of its cone, so it reads the mip level whose texels
+//! are that footprint's size:
+//!
+//! `λ = log2(W / |cos θ|) + ½ log2(A_uv / A_world) + ½ log2(w_tex h_tex |det T|)`
+//!
+//! with W the cone's width at the hit, θ the angle between the ray and the
+//! geometric normal, A_uv and A_world the triangle's areas in UV space and
+//! in the world, and T the texture's `KHR_texture_transform`. Levels are
+//! blended trilinearly; λ ≤ 0 reads level 0 exactly as a plain lookup.
+//!
+//! Camera rays start with the pixel's cone (`γ = 2 tan(½ fov_y) / height`
+//! for a pinhole, `w` = the pixel's width for an orthographic camera).
+//! Delta (mirror, Snell) bounces keep the spread: curvature is ignored.
+//! A bounce sampled with density p [1/sr] widens the spread to at least
+//! the cone whose solid angle is one sample's share of the `N` samples a
+//! pixel takes, `π γ²/4 = 1/(N p)`, i.e. `γ = 2/√(π N p)` (the path
+//! footprint of Suykens & Willems 2001, as pbrt-v4 also shrinks its
+//! footprints by √N): a diffuse bounce reads coarse levels, a glossy one
+//! fine levels, and the blur vanishes as the sample count grows. That
+//! filtering is the lever on cost: a secondary hit reads a small level
+//! the caches hold instead of a random texel of a large one.
+//!
+//! Only the textures that shape the BSDF are filtered (base colour,
+//! metallic–roughness, normal maps). Emission is read at level 0, as light
+//! sampling reads it, so that the two strategies of multiple importance
+//! sampling see one emitter; alpha coverage too, so that visibility stays
+//! exact.
+
+use glam::Vec2;
+use penumbra_scene::mipmap::coarser_levels;
+use penumbra_scene::{Camera, Projection, Scene, Texture, TextureId};
+use penumbra_shading::Rgb;
+
+/// The spread no cone exceeds [rad]: wider than a hemisphere means every
+/// lookup reads the coarsest level anyway.
+const MAX_SPREAD: f32 = std::f32::consts::PI;
+
+/// |cos θ| below which a hit counts as grazing (λ stops growing there).
+const MIN_COS: f32 = 1e-3;
+
+/// A ray's footprint: width at its origin and spread angle.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct RayCone {
+    /// Width at the ray's origin [world units].
+    pub width: f32,
+    /// Full apex angle [rad]: the width grows by `spread` per unit distance.
+    pub spread: f32,
+}
+
+impl RayCone {
+    /// No footprint: every lookup reads level 0.
+    pub const POINT: RayCone = RayCone {
+        width: 0.0,
+        spread: 0.0,
+    };
+
+    /// The cone of one pixel of an image `height` pixels high (square
+    /// pixels) seen by `camera`.
+    pub fn camera(camera: &Camera, height: u32) -> RayCone {
+        let h = height.max(1) as f32;
+        match camera.projection {
+            Projection::Perspective { fov_y } => RayCone {
+                width: 0.0,
+                spread: 2.0 * (0.5 * fov_y).tan() / h,
+            },
+            Projection::Orthographic { height } => RayCone {
+                width: height / h,
+                spread: 0.0,
+            },
+        }
+    }
+
+    /// Width at distance `t` along the ray.
+    #[inline]
+    pub fn width_at(&self, t: f32) -> f32 {
+        self.width + self.spread * t
+    }
+
+    /// The cone leaving a hit at distance `t` after a bounce: the same
+    /// spread after a delta lobe (`pdf` None), else at least the spread of
+    /// one of `spp` samples of density `pdf`, `2/√(π spp pdf)`.
+    pub fn scattered(&self, t: f32, pdf: Option<f32>, spp: u32) -> RayCone {
+        let spread = match pdf {
+            None => self.spread,
+            Some(p) => {
+                let share = 2.0 / (std::f32::consts::PI * spp.max(1) as f32 * p).sqrt();
+                // NaN (p = 0) and ∞ both become MAX_SPREAD.
+                self.spread.max(share.min(MAX_SPREAD)).min(MAX_SPREAD)
+            }
+        };
+        RayCone {
+            width: self.width_at(t),
+            spread,
+        }
+    }
+}
+
+/// log2 of a cone's footprint in UV units, per UV set, at one hit (from
+/// which each texture's level follows): `None` reads level 0.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Footprint(pub Option<[f32; 2]>);
+
+impl Footprint {
+    /// The footprint of a cone `width` wide meeting a surface at `cos` =
+    /// |ray · geometric normal|, on a triangle whose UV density is
+    /// `uv_density` = ½ log2(A_uv / A_world) per set.
+    pub fn new(width: f32, cos: f32, uv_density: [f32; 2]) -> Footprint {
+        // Also NaN: no footprint.
+        if width.is_nan() || width <= 0.0 {
+            return Footprint(None);
+        }
+        let base = (width / cos.abs().max(MIN_COS)).log2();
+        Footprint(Some(uv_density.map(|d| base + d)))
+    }
+}
+
+/// The coarser levels of the scene's BSDF textures, and their lookups.
+#[derive(Debug, Default)]
+pub struct TextureLevels {
+    /// Per scene texture: levels 1.. (empty: never filtered) and
+    /// ½ log2(w h |det T|), the texel density of its level 0 per UV unit.
+    levels: Vec<(Vec<Texture>, f32)>,
+}
+
+impl TextureLevels {
+    /// Mip chains of the textures some material reads as base colour,
+    /// metallic–roughness or normal map.
+    pub fn new(scene: &Scene) -> Self {
+        let mut used = vec![false; scene.textures.len()];
+        for m in &scene.materials {
+            for t in [
+                m.albedo_texture,
+                m.metallic_roughness_texture,
+                m.normal_map.map(|n| n.texture),
+            ]
+            .into_iter()
+            .flatten()
+            {
+                if let Some(u) = used.get_mut(t) {
+                    *u = true;
+                }
+            }
+        }
+        let levels = scene
+            .textures
+            .iter()
+            .zip(used)
+            .map(|(t, used)| {
+                let det = t.uv_transform.matrix2.determinant().abs();
+                let density = 0.5 * (t.width as f32 * t.height as f32 * det).log2();
+                if used {
+                    (coarser_levels(t), density)
+                } else {
+                    (Vec::new(), density)
+                }
+            })
+            .collect();
+        Self { levels }
+    }
+
+    /// Texture `id` of `scene` at UV sets `uvs`, filtered over
+    /// `footprint`: trilinear between the two levels around λ, level 0
+    /// alone (a plain [`Texture::lookup`]) where λ ≤ 0.
+    pub fn lookup(
+        &self,
+        scene: &Scene,
+        id: TextureId,
+        uvs: [Vec2; 2],
+        footprint: Footprint,
+    ) -> Rgb {
+        let texture = &scene.textures[id];
+        let (Some(base), Some((levels, density))) = (footprint.0, self.levels.get(id)) else {
+            return texture.lookup(uvs);
+        };
+        let lambda = base[texture.uv_set.min(1)] + density;
+        if lambda.is_nan() || lambda <= 0.0 || levels.is_empty() {
+            return texture.lookup(uvs);
+        }
+        let lambda = lambda.min(levels.len() as f32);
+        let i = lambda.floor() as usize;
+        let f = lambda - i as f32;
+        let level = |l: usize| match l {
+            0 => texture.lookup(uvs),
+            _ => levels[l - 1].lookup(uvs),
+        };
+        if f == 0.0 {
+            level(i)
+        } else {
+            level(i).lerp(level(i + 1), f)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::{Affine2, Mat4, Vec3};
+    use penumbra_scene::texture::Wrap;
+    use penumbra_scene::{Material, NormalMap};
+
+    #[test]
+    fn camera_cones_are_one_pixel_wide() {
+        let look = |projection| Camera::look_at(Vec3::Z, Vec3::ZERO, Vec3::Y, projection);
+        // 90°: the image plane at distance 1 is 2 high, 100 pixels.
+        let cone = RayCone::camera(
+            &look(Projection::Perspective {
+                fov_y: 90f32.to_radians(),
+            }),
+            100,
+        );
+        assert_eq!(cone.width, 0.0);
+        assert!((cone.spread - 0.02).abs() < 1e-7);
+        assert!((cone.width_at(50.0) - 1.0).abs() < 1e-5);
+        let cone = RayCone::camera(&look(Projection::Orthographic { height: 3.0 }), 60);
+        assert_eq!(
+            cone,
+            RayCone {
+                width: 0.05,
+                spread: 0.0
+            }
+        );
+        assert_eq!(cone.width_at(1e3), 0.05);
+        let _ = Mat4::IDENTITY;
+    }
+
+    /// A delta bounce keeps the spread; a sampled one widens it to
+    /// 2/√(π N p): p = 1/π (a cosine lobe at the normal), N = 4 gives 1.
+    #[test]
+    fn bounces_widen_cones_by_the_sample_share() {
+        let cone = RayCone {
+            width: 0.5,
+            spread: 0.01,
+        };
+        assert_eq!(
+            cone.scattered(2.0, None, 4),
+            RayCone {
+                width: 0.52,
+                spread: 0.01
+            }
+        );
+        let diffuse = cone.scattered(2.0, Some(std::f32::consts::FRAC_1_PI), 4);
+        assert!((diffuse.width - 0.52).abs() < 1e-7);
+        assert!((diffuse.spread - 1.0).abs() < 1e-6, "{diffuse:?}");
+        // One sample: twice as wide; 100 samples of a lobe of density 100:
+        // 2/√(π 10⁴) = 0.01128.
+        let one = cone.scattered(0.0, Some(std::f32::consts::FRAC_1_PI), 1);
+        assert!((one.spread - 2.0).abs() < 1e-6);
+        let glossy = cone.scattered(0.0, Some(100.0), 100);
+        assert!((glossy.spread - 0.011284).abs() < 1e-6, "{glossy:?}");
+        // A wider cone stays wider; no density means the widest cone.
+        let wide = RayCone {
+            width: 0.0,
+            spread: 1.5,
+        };
+        assert_eq!(wide.scattered(0.0, Some(1e6), 1).spread, 1.5);
+        assert_eq!(cone.scattered(0.0, Some(0.0), 1).spread, MAX_SPREAD);
+        assert_eq!(wide.scattered(0.0, Some(1e-9), 1).spread, MAX_SPREAD);
+    }
+
+    #[test]
+    fn footprints_grow_at_grazing_angles() {
+        assert_eq!(Footprint::new(0.0, 1.0, [0.0; 2]), Footprint(None));
+        assert_eq!(Footprint::new(-1.0, 1.0, [0.0; 2]), Footprint(None));
+        // log2(0.5 / 0.5) = 0, plus each set's density.
+        assert_eq!(
+            Footprint::new(0.5, -0.5, [1.0, -2.0]),
+            Footprint(Some([1.0, -2.0]))
+        );
+        // Head-on, log2(0.25) = −2; grazing clamps at cos = 10⁻³.
+        assert_eq!(
+            Footprint::new(0.25, 1.0, [0.0; 2]),
+            Footprint(Some([-2.0; 2]))
+        );
+        let Footprint(Some([g, _])) = Footprint::new(1.0, 0.0, [0.0; 2]) else {
+            panic!()
+        };
+        assert!((g - 1e3f32.log2()).abs() < 1e-4);
+    }
+
+    /// One bright texel (16) at (3, 0) of a black 4×4 texture, clamped at
+    /// the edges: at its centre level 0 reads 16, level 1 (its 2×2 block's
+    /// mean) 4, level 2 (the mean) 1; levels between are blended linearly
+    /// in λ = footprint + ½ log2(w h |det T|) = footprint + 2.
+    #[test]
+    fn lookups_blend_the_levels_around_lambda() {
+        let mut texels = vec![Rgb::ZERO; 16];
+        texels[3] = Rgb::splat(16.0);
+        let bright = Texture {
+            name: "bright".into(),
+            width: 4,
+            height: 4,
+            texels: texels.into(),
+            wrap: [Wrap::ClampToEdge; 2],
+            uv_transform: Affine2::IDENTITY,
+            uv_set: 0,
+        };
+        let mut scene = Scene::default();
+        scene.textures.push(bright.clone());
+        // The same texels read through set 1 and scaled 2× (det 4: one
+        // more level at the same footprint).
+        scene.textures.push(Texture {
+            uv_set: 1,
+            uv_transform: Affine2::from_scale(glam::Vec2::splat(2.0)),
+            ..bright.clone()
+        });
+        // An emission texture: never filtered.
+        scene.textures.push(bright);
+        scene.add_material(Material {
+            albedo_texture: Some(0),
+            normal_map: Some(NormalMap {
+                texture: 1,
+                scale: 1.0,
+            }),
+            emission_texture: Some(2),
+            ..Material::lambert("m", Rgb::ONE)
+        });
+        let levels = TextureLevels::new(&scene);
+        let at = Vec2::new(0.875, 0.125);
+        let read = |id, uvs, lambda: [f32; 2]| {
+            levels
+                .lookup(&scene, id, uvs, Footprint(Some(lambda.map(|l| l - 2.0))))
+                .x
+        };
+        for (lambda, expected) in [
+            (-0.5, 16.0),
+            (0.0, 16.0),
+            (0.25, 13.0),
+            (1.0, 4.0),
+            (1.5, 2.5),
+            (2.0, 1.0),
+            (7.0, 1.0),
+        ] {
+            let got = read(0, [at, Vec2::ZERO], [lambda, 9.0]);
+            assert!((got - expected).abs() < 1e-5, "λ {lambda}: {got}");
+            // Set 1 at half the coordinates, one level coarser.
+            let got = read(1, [Vec2::ZERO, at * 0.5], [9.0, lambda - 1.0]);
+            assert!((got - expected).abs() < 1e-5, "set 1, λ {lambda}: {got}");
+            assert_eq!(read(2, [at, at], [lambda; 2]), 16.0);
+        }
+        assert_eq!(levels.lookup(&scene, 0, [at; 2], Footprint(None)).x, 16.0);
+        // NaN (0/0 densities) reads level 0.
+        assert_eq!(read(0, [at; 2], [f32::NAN; 2]), 16.0);
+    }
+}
