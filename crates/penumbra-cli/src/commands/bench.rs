@@ -140,7 +140,7 @@ fn mesh_scene(meshes: Vec<(penumbra_scene::Mesh, Mat4)>) -> Scene {
 
 fn report(m: &Measure, json: bool, unit: &str) {
     if json {
-        let key = if m.name == "build" || m.name == "load" {
+        let key = if matches!(m.name, "build" | "load" | "bvh+mips") {
             "mtris_per_s"
         } else if m.name.starts_with("path") {
             "msamples_per_s"
@@ -156,8 +156,14 @@ fn report(m: &Measure, json: bool, unit: &str) {
             m.millions_per_second()
         );
     } else {
-        let hits = if matches!(m.name, "build" | "load") || m.name.starts_with("path") {
+        let hits = if matches!(m.name, "build" | "load" | "bvh+mips") {
             String::new()
+        } else if m.name.starts_with("path") {
+            // A path measure's `hits` holds the rays it traced.
+            format!(
+                ", {:.2} rays per sample",
+                m.hits as f64 / m.count.max(1) as f64
+            )
         } else {
             format!(
                 ", {:.1} % hit",
@@ -280,7 +286,16 @@ fn run_raster(args: &BenchArgs) -> Result<()> {
 }
 
 fn run_measures(args: &BenchArgs, scene: &Scene, load: Option<Measure>) -> Result<()> {
+    let start = std::time::Instant::now();
     let mut geometry = SceneGeometry::build(scene, BuildQuality::Medium);
+    // With textures, their mip chains build beside the BVH: the wall time
+    // of both is what a render waits for after loading.
+    let prepare = (!scene.textures.is_empty()).then(|| Measure {
+        name: "bvh+mips",
+        seconds: start.elapsed().as_secs_f64(),
+        count: geometry.triangles.len() as u64,
+        hits: 0,
+    });
     match args.prefetch {
         PrefetchArg::Auto => {}
         PrefetchArg::On => geometry.accel.set_prefetch(true),
@@ -305,6 +320,9 @@ fn run_measures(args: &BenchArgs, scene: &Scene, load: Option<Measure>) -> Resul
         report(load, args.json, "Mtris/s");
     }
     report(&build, args.json, "Mtris/s");
+    if let Some(prepare) = &prepare {
+        report(prepare, args.json, "Mtris/s");
+    }
     if let Some(path) = &args.rays {
         let bytes = std::fs::read(path)
             .with_context(|| format!("cannot read ray file {}", path.display()))?;
@@ -347,12 +365,14 @@ fn run_measures(args: &BenchArgs, scene: &Scene, load: Option<Measure>) -> Resul
         settings.integrator = IntegratorKind::Path;
         settings.spp = args.spp;
         let path = |name, scene: &Scene| {
+            let rays = penumbra_trace::stats::rays_traced();
             let out = render(scene, &settings, &RenderOptions::default());
             Measure {
                 name,
                 seconds: out.render_seconds,
                 count: settings.width as u64 * settings.height as u64 * out.spp as u64,
-                hits: 0,
+                // The rays traced (closest-hit and shadow), in `hits`.
+                hits: penumbra_trace::stats::rays_traced() - rays,
             }
         };
         let textured = path("path", scene);
@@ -363,9 +383,13 @@ fn run_measures(args: &BenchArgs, scene: &Scene, load: Option<Measure>) -> Resul
             let plain = path("path-untextured", &without_textures(scene));
             report(&plain, args.json, "Msamples/s");
             if !args.json {
+                // Per ray as well: the textures also change the paths
+                // (normal maps, roughness), so their lengths differ.
+                let per_ray = |m: &Measure| m.seconds / m.hits.max(1) as f64;
                 println!(
-                    "textures cost {:.1} % of path throughput",
-                    100.0 * (1.0 - plain.seconds / textured.seconds)
+                    "textures cost {:.1} % of path throughput ({:.1} % of the time per ray)",
+                    100.0 * (1.0 - plain.seconds / textured.seconds),
+                    100.0 * (1.0 - per_ray(&plain) / per_ray(&textured))
                 );
             }
         }
