@@ -191,7 +191,7 @@ pub fn render(scene: &Scene, settings: &RenderSettings, options: &RenderOptions)
         geometry: &geometry,
         lights: &lights,
         settings,
-        camera_cone: RayCone::camera(&camera, h),
+        camera_cone: RayCone::camera(&camera, h, settings.spp),
     };
     let crop = options.crop.clone().unwrap_or(Crop { x: 0..w, y: 0..h });
     assert!(crop.x.end <= w && crop.y.end <= h, "crop outside the image");

@@ -15,7 +15,9 @@
 //! blended trilinearly; λ ≤ 0 reads level 0 exactly as a plain lookup.
 //!
 //! Camera rays start with the pixel's cone (`γ = 2 tan(½ fov_y) / height`
-//! for a pinhole, `w` = the pixel's width for an orthographic camera).
+//! for a pinhole, `w` = the pixel's width for an orthographic camera)
+//! scaled by `max(1/8, 1/√N)` for N samples per pixel, as pbrt-v4 scales
+//! its camera ray differentials ([`RayCone::camera`]).
 //! Delta (mirror, Snell) bounces keep the spread: curvature is ignored.
 //! A bounce sampled with density p [1/sr] widens the spread to at least
 //! the cone whose solid angle is one sample's share of the `N` samples a
@@ -60,17 +62,24 @@ impl RayCone {
         spread: 0.0,
     };
 
-    /// The cone of one pixel of an image `height` pixels high (square
-    /// pixels) seen by `camera`.
-    pub fn camera(camera: &Camera, height: u32) -> RayCone {
+    /// The cone of one camera sample of `spp` in a pixel of an image
+    /// `height` pixels high (square pixels) seen by `camera`: the pixel's
+    /// cone scaled by `max(1/8, 1/√spp)`, as pbrt-v4 scales its camera ray
+    /// differentials. The pixel's samples already spread over the pixel:
+    /// filtering each over the whole pixel too would blur twice, and a
+    /// filtered lookup of a nonlinear map (normals, roughness) is not the
+    /// mean of the point lookups it replaces; the narrower cone keeps that
+    /// bias small and lets it shrink as samples are added.
+    pub fn camera(camera: &Camera, height: u32, spp: u32) -> RayCone {
         let h = height.max(1) as f32;
+        let scale = (1.0 / (spp.max(1) as f32).sqrt()).max(0.125);
         match camera.projection {
             Projection::Perspective { fov_y } => RayCone {
                 width: 0.0,
-                spread: 2.0 * (0.5 * fov_y).tan() / h,
+                spread: scale * 2.0 * (0.5 * fov_y).tan() / h,
             },
             Projection::Orthographic { height } => RayCone {
-                width: height / h,
+                width: scale * height / h,
                 spread: 0.0,
             },
         }
@@ -200,7 +209,7 @@ impl TextureLevels {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use glam::{Affine2, Mat4, Vec3};
+    use glam::{Affine2, Vec3};
     use penumbra_scene::texture::Wrap;
     use penumbra_scene::{Material, NormalMap};
 
@@ -213,11 +222,13 @@ mod tests {
                 fov_y: 90f32.to_radians(),
             }),
             100,
+            1,
         );
         assert_eq!(cone.width, 0.0);
         assert!((cone.spread - 0.02).abs() < 1e-7);
         assert!((cone.width_at(50.0) - 1.0).abs() < 1e-5);
-        let cone = RayCone::camera(&look(Projection::Orthographic { height: 3.0 }), 60);
+        let ortho = look(Projection::Orthographic { height: 3.0 });
+        let cone = RayCone::camera(&ortho, 60, 1);
         assert_eq!(
             cone,
             RayCone {
@@ -226,7 +237,11 @@ mod tests {
             }
         );
         assert_eq!(cone.width_at(1e3), 0.05);
-        let _ = Mat4::IDENTITY;
+        // 16 samples: a quarter of the pixel; 100 or more: an eighth.
+        assert_eq!(RayCone::camera(&ortho, 60, 16).width, 0.0125);
+        assert_eq!(RayCone::camera(&ortho, 60, 100).width, 0.05 / 8.0);
+        assert_eq!(RayCone::camera(&ortho, 60, 4096).width, 0.05 / 8.0);
+        assert_eq!(RayCone::camera(&ortho, 60, 0).width, 0.05);
     }
 
     /// A delta bounce keeps the spread; a sampled one widens it to
