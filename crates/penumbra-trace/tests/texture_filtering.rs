@@ -75,6 +75,21 @@ fn pixels(scene: &Scene, integrator: IntegratorKind, n: u32, max_depth: u32) -> 
     out.image.pixels.iter().map(|p| p.x).collect()
 }
 
+/// An orthographic camera 5 above the floor looking down, 1.5 wide.
+fn from_above() -> Camera {
+    Camera::look_at(
+        Vec3::new(0.0, 0.0, 5.0),
+        Vec3::ZERO,
+        Vec3::Y,
+        Projection::Orthographic { height: 1.5 },
+    )
+}
+
+/// The largest |pixel − v|.
+fn largest_deviation(pixels: &[f32], v: f32) -> f32 {
+    pixels.iter().map(|p| (p - v).abs()).fold(0.0, f32::max)
+}
+
 /// Seen from above by an orthographic camera 1.5 wide over 16 pixels, a
 /// pixel spans 12 texels of a 256² checkerboard: λ ≈ 3.6, every lookup
 /// reads levels 3 and 4, all 0.5. Unfiltered, one sample per pixel would
@@ -82,15 +97,10 @@ fn pixels(scene: &Scene, integrator: IntegratorKind, n: u32, max_depth: u32) -> 
 #[test]
 fn a_minified_checkerboard_reads_its_mean() {
     let mut scene = textured_floor(checkerboard(256, 1), -Vec3::Z);
-    scene.camera = Some(Camera::look_at(
-        Vec3::new(0.0, 0.0, 5.0),
-        Vec3::ZERO,
-        Vec3::Y,
-        Projection::Orthographic { height: 1.5 },
-    ));
+    scene.camera = Some(from_above());
     for integrator in [IntegratorKind::Local, IntegratorKind::Path] {
         let px = pixels(&scene, integrator, 16, 2);
-        let worst = px.iter().map(|v| (v - 0.5).abs()).fold(0.0, f32::max);
+        let worst = largest_deviation(&px, 0.5);
         assert!(worst < 1e-4, "{integrator:?}: a pixel off 0.5 by {worst}");
     }
 }
@@ -129,7 +139,7 @@ fn a_mirror_passes_the_cone_on() {
     ));
     for integrator in [IntegratorKind::Whitted, IntegratorKind::Path] {
         let px = pixels(&scene, integrator, 16, 3);
-        let worst = px.iter().map(|v| (v - 0.5).abs()).fold(0.0, f32::max);
+        let worst = largest_deviation(&px, 0.5);
         assert!(worst < 1e-3, "{integrator:?}: a pixel off 0.5 by {worst}");
     }
 }
@@ -140,12 +150,7 @@ fn a_mirror_passes_the_cone_on() {
 #[test]
 fn a_magnified_texture_keeps_its_detail() {
     let mut scene = textured_floor(checkerboard(2, 1), -Vec3::Z);
-    scene.camera = Some(Camera::look_at(
-        Vec3::new(0.0, 0.0, 5.0),
-        Vec3::ZERO,
-        Vec3::Y,
-        Projection::Orthographic { height: 1.5 },
-    ));
+    scene.camera = Some(from_above());
     let px = pixels(&scene, IntegratorKind::Local, 16, 2);
     let (lo, hi) = px
         .iter()
