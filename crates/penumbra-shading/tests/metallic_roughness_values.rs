@@ -1,0 +1,118 @@
+//! The glTF metallic–roughness model at its boundaries and against values
+//! worked by hand (the statistical and energy tests are in
+//! `microfacet.rs`): which surfaces transmit, and what seeing one from
+//! its back changes.
+
+use penumbra_shading::Rgb;
+use penumbra_shading::bsdf::MetallicRoughness;
+
+/// A surface transmits only with transmission > 0 and metallic < 1
+/// (KHR_materials_transmission: metal is opaque); only then does seeing
+/// it from the back invert its index, and flags say so.
+#[test]
+fn only_dielectrics_with_transmission_transmit() {
+    let base = MetallicRoughness::new(Rgb::new(0.8, 0.5, 0.2), 0.0, 0.4);
+    let with = |metallic: f32, transmission: f32| MetallicRoughness {
+        metallic,
+        transmission,
+        ..base
+    };
+    for (m, transmits) in [
+        (with(0.0, 0.0), false),
+        (with(0.5, 0.0), false),
+        (with(1.0, 1.0), false),
+        (with(1.0, 0.0), false),
+        (with(0.0, 1.0), true),
+        (with(0.5, 0.25), true),
+        // Out of range, clamped: transmission −1 is 0, metallic 2 is 1.
+        (with(0.0, -1.0), false),
+        (with(2.0, 1.0), false),
+    ] {
+        assert_eq!(
+            m.flags().transmission,
+            transmits,
+            "metallic {} transmission {}",
+            m.metallic,
+            m.transmission
+        );
+        let back = m.inverted();
+        if transmits {
+            assert_eq!(back.ior, 1.0 / 1.5);
+            assert_eq!(MetallicRoughness { ior: 1.5, ..back }, m);
+        } else {
+            assert_eq!(back, m, "an opaque surface looks the same from behind");
+        }
+    }
+}
+
+/// Smooth glass (roughness 0, transmission 1, white) seen from inside
+/// (ior 1/1.5, f0 still 0.04): Fresnel takes the cosine of the
+/// transmitted angle, `F = f0 + (1 − f0)(1 − cos θt)⁵`; at θo = 30°,
+/// sin²θt = 0.25 · 2.25 = 0.5625, cos θt = 0.661438, F = 0.044270 and the
+/// refracted throughput (1 − F)/η² = 2.150392. At 60° sin²θt = 1.6875 > 1:
+/// total internal reflection, F = 1 and no refraction.
+#[test]
+fn from_the_denser_side_fresnel_uses_the_transmitted_angle() {
+    let glass = MetallicRoughness {
+        transmission: 1.0,
+        ..MetallicRoughness::new(Rgb::ONE, 0.0, 0.0)
+    }
+    .inverted();
+    let wo = |deg: f32| {
+        let t = deg.to_radians();
+        glam::Vec3::new(t.sin(), 0.0, t.cos())
+    };
+    let lobes: Vec<_> = glass.specular(wo(30.0)).iter().collect();
+    assert_eq!(lobes.len(), 2);
+    assert!((lobes[0].1 - Rgb::splat(0.044270)).abs().max_element() < 1e-5);
+    assert!(lobes[0].0.z > 0.0);
+    assert!((lobes[1].1 - Rgb::splat(2.150392)).abs().max_element() < 1e-4);
+    assert!(lobes[1].0.z < 0.0);
+    let lobes: Vec<_> = glass.specular(wo(60.0)).iter().collect();
+    assert_eq!(lobes.len(), 1);
+    assert!((lobes[0].1 - Rgb::ONE).abs().max_element() < 1e-6);
+}
+
+/// Half metal, half clear glass (metallic 0.5, transmission 1, base
+/// colour (1, 0.5, 0.25), smooth) at normal incidence, by hand: the
+/// mirror reflects mix(F_d, F_m, 0.5) = 0.5 · 0.04 + 0.5 · base (Schlick
+/// at cos 1 is f0 = base) = (0.52, 0.27, 0.145); the refraction carries
+/// (1 − F_d) · base · (1 − metallic) · transmission / η² =
+/// 0.96 · base · 0.5 / 2.25 = (0.213333, 0.106667, 0.053333).
+#[test]
+fn half_metal_glass_splits_by_hand() {
+    let m = MetallicRoughness {
+        transmission: 1.0,
+        ..MetallicRoughness::new(Rgb::new(1.0, 0.5, 0.25), 0.5, 0.0)
+    };
+    let lobes: Vec<_> = m.specular(glam::Vec3::Z).iter().collect();
+    assert_eq!(lobes.len(), 2);
+    let close = |a: Rgb, b: Rgb| (a - b).abs().max_element() < 1e-5;
+    assert!(
+        close(lobes[0].1, Rgb::new(0.52, 0.27, 0.145)),
+        "{}",
+        lobes[0].1
+    );
+    assert!(
+        close(lobes[1].1, Rgb::new(0.213333, 0.106667, 0.053333)),
+        "{}",
+        lobes[1].1
+    );
+}
+
+/// At ior 1 the dielectric has f0 = 0 and is seen from outside: its
+/// specular albedo is `f90 · B(μ)`, B(1) = 0 at normal incidence for a
+/// smooth surface, and the white Lambert base under it reflects
+/// `1/π · (1 − E(1))² / (1 − E_avg)` with E_avg = 2∫(1 − μ)⁵ μ dμ = 1/21
+/// (the table's interpolant gives it within 1 %): f(z, z) = 0.3342. The
+/// denser side's bound E = A ≡ 1 would leave the base nothing.
+#[test]
+fn index_one_is_seen_from_outside() {
+    let m = MetallicRoughness {
+        ior: 1.0,
+        ..MetallicRoughness::new(Rgb::ONE, 0.0, 0.0)
+    };
+    let f = m.eval(glam::Vec3::Z, glam::Vec3::Z).x;
+    let expected = 1.0 / (std::f32::consts::PI * (1.0 - 1.0 / 21.0));
+    assert!((f - expected).abs() < 0.01 * expected, "{f} vs {expected}");
+}
