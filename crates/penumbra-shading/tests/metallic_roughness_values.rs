@@ -145,3 +145,88 @@ fn a_white_dielectric_reflects_everything() {
         assert!((albedo - 1.0).abs() < 5e-3, "θo {deg}°: albedo {albedo}");
     }
 }
+
+/// Lobe selection by hand, for smooth half-metal, half-transmissive
+/// glass with base (0.2, 0.4, 0.6) (mean 0.4) at normal incidence, where
+/// the specular albedo is F_d(1) = f0 = 0.04 exactly (the table's smooth
+/// row at μ = 1):
+/// - diffuse weight w_d = (1 − 0.5)(1 − 0.5) · mean(base · 0.96) = 0.096;
+/// - specular weight w_g = mean(f_reflect) + mean(f_transmit) = (0.02 +
+///   0.5 · 0.4) + 0.96 · 0.4 · 0.25 = 0.22 + 0.096 = 0.316;
+/// - p_d = 0.096 / 0.412 = 0.2330097: the density at 60° is p_d cos/π =
+///   0.0370846 (the delta lobes have none);
+/// - reflect with q = 0.22 / 0.316 = 0.6962025: the mirror sample's pdf
+///   (1 − p_d) q = 0.5339806 and weight f_reflect / pdf; the refraction's
+///   pdf (1 − p_d)(1 − q) = 0.2330097, weight f_transmit / (η² pdf).
+#[test]
+fn lobe_selection_by_hand() {
+    let m = MetallicRoughness {
+        transmission: 0.5,
+        ..MetallicRoughness::new(Rgb::new(0.2, 0.4, 0.6), 0.5, 0.0)
+    };
+    let z = glam::Vec3::Z;
+    let at60 = glam::Vec3::new(60f32.to_radians().sin(), 0.0, 0.5);
+    let pdf = m.pdf(z, at60);
+    assert!((pdf - 0.0370846).abs() < 1e-6, "pdf {pdf}");
+    let close = |a: Rgb, b: Rgb| (a - b).abs().max_element() < 1e-5;
+    // u_lobe 0.5: past p_d, then u2 = 0.348 < q: the mirror.
+    let s = m.sample(z, 0.5, [0.3, 0.7]).unwrap();
+    assert!(s.delta && s.wi.z > 0.999);
+    assert!((s.pdf - 0.5339806).abs() < 1e-6, "reflect pdf {}", s.pdf);
+    assert!(
+        close(s.weight, Rgb::new(0.2247273, 0.412, 0.5992727)),
+        "{}",
+        s.weight
+    );
+    // u_lobe 0.99: u2 = 0.987 ≥ q: the refraction, straight through.
+    let s = m.sample(z, 0.99, [0.3, 0.7]).unwrap();
+    assert!(s.delta && s.wi.z < -0.999);
+    assert!((s.pdf - 0.2330097).abs() < 1e-6, "refract pdf {}", s.pdf);
+    assert!(
+        close(s.weight, Rgb::new(0.0915556, 0.1831111, 0.2746667)),
+        "{}",
+        s.weight
+    );
+    // u_lobe 0.1 < p_d: the base, whose sample's pdf is p_d cos θi / π.
+    let s = m.sample(z, 0.1, [0.3, 0.7]).unwrap();
+    assert!(!s.delta);
+    let expected = 0.2330097 * s.wi.z / std::f32::consts::PI;
+    assert!((s.pdf - expected).abs() < 1e-6, "{} vs {expected}", s.pdf);
+}
+
+/// No density along the surface (wi.z = 0), and none below it except
+/// through a rough transmission lobe (smooth glass refracts by a delta
+/// lobe; an opaque surface not at all).
+#[test]
+fn density_only_where_a_lobe_reaches() {
+    let wo = glam::Vec3::new(0.3, 0.1, 0.9).normalize();
+    let along = glam::Vec3::new(0.6, -0.8, 0.0);
+    let below = glam::Vec3::new(-0.2, 0.1, -0.9).normalize();
+    let glass = |roughness: f32| MetallicRoughness {
+        transmission: 1.0,
+        ..MetallicRoughness::new(Rgb::splat(0.9), 0.0, roughness)
+    };
+    let opaque = MetallicRoughness::new(Rgb::splat(0.9), 0.3, 0.5);
+    // Sanity: rough glass has density below, the rough models above
+    // (smooth clear glass has no non-delta lobe at all).
+    assert!(glass(0.5).eval(wo, below).min_element() > 0.0);
+    assert!(glass(0.5).pdf(wo, below) > 0.0);
+    let above = glam::Vec3::new(-0.3, -0.1, 0.9).normalize();
+    assert!(glass(0.5).pdf(wo, above) > 0.0 && opaque.pdf(wo, above) > 0.0);
+    for m in [glass(0.5), glass(0.0), opaque] {
+        assert_eq!(m.eval(wo, along), Rgb::ZERO, "{m:?}");
+        assert_eq!(m.pdf(wo, along), 0.0, "{m:?}");
+    }
+    for m in [glass(0.0), opaque] {
+        assert_eq!(m.eval(wo, below), Rgb::ZERO, "{m:?}");
+        assert_eq!(m.pdf(wo, below), 0.0, "{m:?}");
+    }
+    // From inside (η = 1/1.5) a refraction half vector exists even for a
+    // direction along the surface: ωo = (−0.95, 0, 0.312), ωi = x give
+    // ωo + η ωi = (−0.283, 0, 0.312), with ωo·m > 0 > ωi·m. Still no
+    // density there.
+    let inside = glass(0.5).inverted();
+    let grazing = glam::Vec3::new(-0.95, 0.0, 0.312).normalize();
+    assert_eq!(inside.eval(grazing, glam::Vec3::X), Rgb::ZERO);
+    assert_eq!(inside.pdf(grazing, glam::Vec3::X), 0.0);
+}
