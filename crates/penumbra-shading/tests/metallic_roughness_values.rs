@@ -286,3 +286,26 @@ fn rough_glass_density_integrates_to_its_sample_rate() {
         );
     }
 }
+
+/// Flags by hand: a smooth surface has delta lobes, and a non-delta one
+/// only through its Lambert base, weighted (1 − metallic)(1 − transmission).
+#[test]
+fn flags_by_hand() {
+    let smooth = |metallic: f32, transmission: f32| MetallicRoughness {
+        transmission,
+        ..MetallicRoughness::new(Rgb::splat(0.5), metallic, 0.0)
+    };
+    for (m, non_delta) in [
+        (smooth(0.0, 0.0), true),
+        (smooth(0.5, 0.5), true),
+        (smooth(1.0, 0.0), false),
+        (smooth(0.0, 1.0), false),
+        (smooth(1.0, 1.0), false),
+    ] {
+        let f = m.flags();
+        assert!(f.delta, "{m:?}");
+        assert_eq!(f.non_delta, non_delta, "{m:?}");
+    }
+    let rough = MetallicRoughness::new(Rgb::splat(0.5), 1.0, 0.5).flags();
+    assert!(rough.non_delta && !rough.delta && !rough.transmission);
+}
