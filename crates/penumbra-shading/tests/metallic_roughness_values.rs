@@ -147,7 +147,7 @@ fn a_white_dielectric_reflects_everything() {
 }
 
 /// Lobe selection by hand, for smooth half-metal, half-transmissive
-/// glass with base (0.2, 0.4, 0.6) (mean 0.4) at normal incidence, where
+/// glass with base (0.2, 0.3, 0.7) (mean 0.4) at normal incidence, where
 /// the specular albedo is F_d(1) = f0 = 0.04 exactly (the table's smooth
 /// row at μ = 1):
 /// - diffuse weight w_d = (1 − 0.5)(1 − 0.5) · mean(base · 0.96) = 0.096;
@@ -162,7 +162,7 @@ fn a_white_dielectric_reflects_everything() {
 fn lobe_selection_by_hand() {
     let m = MetallicRoughness {
         transmission: 0.5,
-        ..MetallicRoughness::new(Rgb::new(0.2, 0.4, 0.6), 0.5, 0.0)
+        ..MetallicRoughness::new(Rgb::new(0.2, 0.3, 0.7), 0.5, 0.0)
     };
     let z = glam::Vec3::Z;
     let at60 = glam::Vec3::new(60f32.to_radians().sin(), 0.0, 0.5);
@@ -174,7 +174,7 @@ fn lobe_selection_by_hand() {
     assert!(s.delta && s.wi.z > 0.999);
     assert!((s.pdf - 0.5339806).abs() < 1e-6, "reflect pdf {}", s.pdf);
     assert!(
-        close(s.weight, Rgb::new(0.2247273, 0.412, 0.5992727)),
+        close(s.weight, Rgb::new(0.2247273, 0.3183636, 0.6929091)),
         "{}",
         s.weight
     );
@@ -183,7 +183,7 @@ fn lobe_selection_by_hand() {
     assert!(s.delta && s.wi.z < -0.999);
     assert!((s.pdf - 0.2330097).abs() < 1e-6, "refract pdf {}", s.pdf);
     assert!(
-        close(s.weight, Rgb::new(0.0915556, 0.1831111, 0.2746667)),
+        close(s.weight, Rgb::new(0.0915556, 0.1373333, 0.3204444)),
         "{}",
         s.weight
     );
@@ -308,4 +308,46 @@ fn flags_by_hand() {
     }
     let rough = MetallicRoughness::new(Rgb::splat(0.5), 1.0, 0.5).flags();
     assert!(rough.non_delta && !rough.delta && !rough.transmission);
+}
+
+/// The summaries: `albedo` is the base colour; a smooth surface seen
+/// from below its own surface lists no delta lobe; the split-sum factors
+/// and the tables for GPU twins follow their documented layout, with the
+/// smooth limit (A, B) = (1, (1 − μ)⁵) by hand at the nodes μ = (i/32)².
+#[test]
+fn summaries_and_tables_by_hand() {
+    let m = MetallicRoughness::new(Rgb::new(0.1, 0.2, 0.3), 0.0, 0.0);
+    assert_eq!(m.albedo(), Rgb::new(0.1, 0.2, 0.3));
+    let below = glam::Vec3::new(0.3, 0.0, -0.9).normalize();
+    assert_eq!(m.specular(below).len(), 0);
+    assert_eq!(m.specular(glam::Vec3::Z).len(), 1);
+    // μ = 0.25 is node 16 of √μ: exactly (1, 0.75⁵).
+    assert_eq!(
+        penumbra_shading::bsdf::ggx_split_sum(0.25, 0.0),
+        (1.0, 0.75f32.powi(5))
+    );
+    // Out-of-range arguments are clamped.
+    assert_eq!(
+        penumbra_shading::bsdf::ggx_split_sum(-1.0, 2.0),
+        penumbra_shading::bsdf::ggx_split_sum(0.0, 1.0)
+    );
+    let [n_mu, n_r] = MetallicRoughness::ALBEDO_TABLE_SIZE;
+    let [a, b, a_avg, b_avg] = MetallicRoughness::albedo_tables();
+    assert_eq!(
+        [a.len(), b.len(), a_avg.len(), b_avg.len()],
+        [n_mu * n_r, n_mu * n_r, n_r, n_r]
+    );
+    for im in 0..n_mu {
+        let mu = (im as f32 / (n_mu - 1) as f32).powi(2);
+        assert_eq!(a[im], 1.0);
+        assert!((b[im] - (1.0 - mu).powi(5)).abs() < 1e-6, "node {im}");
+    }
+    // Rough rows reflect less than the smooth limit, and every value is
+    // an albedo.
+    assert!(a[(n_r - 1) * n_mu + n_mu - 1] < 1.0);
+    assert!(a.iter().chain(b).all(|v| (0.0..=1.0).contains(v)));
+    // The smooth row's cosine average 2∫(1 − μ)⁵ μ dμ = 1/21, within the
+    // interpolation in √μ.
+    assert_eq!(a_avg[0], 1.0);
+    assert!((b_avg[0] - 1.0 / 21.0).abs() < 1e-3, "{}", b_avg[0]);
 }
