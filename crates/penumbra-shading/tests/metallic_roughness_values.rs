@@ -187,6 +187,9 @@ fn lobe_selection_by_hand() {
         "{}",
         s.weight
     );
+    // u_lobe 0.85: u2 = 0.617/0.767 = 0.804 ≥ q, the refraction (not
+    // rescaled, 0.617 < q would pick the mirror).
+    assert!(m.sample(z, 0.85, [0.3, 0.7]).unwrap().wi.z < -0.999);
     // u_lobe 0.1 < p_d: the base, whose sample's pdf is p_d cos θi / π.
     let s = m.sample(z, 0.1, [0.3, 0.7]).unwrap();
     assert!(!s.delta);
