@@ -227,6 +227,11 @@ mod tests {
         assert_eq!(cone.width, 0.0);
         assert!((cone.spread - 0.02).abs() < 1e-7);
         assert!((cone.width_at(50.0) - 1.0).abs() < 1e-5);
+        // 60°: 2 tan 30° / 100 = 0.0115470.
+        let narrow = look(Projection::Perspective {
+            fov_y: 60f32.to_radians(),
+        });
+        assert!((RayCone::camera(&narrow, 100, 1).spread - 0.011547).abs() < 1e-7);
         let ortho = look(Projection::Orthographic { height: 3.0 });
         let cone = RayCone::camera(&ortho, 60, 1);
         assert_eq!(
