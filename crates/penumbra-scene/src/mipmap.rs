@@ -153,6 +153,13 @@ mod tests {
             .map(|l| (l.width, l.height))
             .collect();
         assert_eq!(sizes, [(8, 4), (4, 2), (2, 1), (1, 1)]);
+        // 4×4 texels x + 4y: each texel of level 1 the mean of its 2×2
+        // block, (0 + 1 + 4 + 5)/4 = 2.5, then 4.5, 10.5, 12.5.
+        let grid = texture(4, 4, (0..16).map(|i| v(i as f32)).collect());
+        assert_eq!(
+            mip_chain(&grid)[1].texels,
+            vec![v(2.5), v(4.5), v(10.5), v(12.5)]
+        );
         // More rows than one parallel task: row y of a 2×40 ramp's level 1
         // is the mean of rows 2y and 2y + 1, (4y + 1) / 2.
         let ramp = texture(2, 40, (0..80).map(|i| v((i / 2) as f32)).collect());
