@@ -153,6 +153,13 @@ mod tests {
             .map(|l| (l.width, l.height))
             .collect();
         assert_eq!(sizes, [(8, 4), (4, 2), (2, 1), (1, 1)]);
+        // A column goes on halving its height after the width reached 1.
+        let column = texture(1, 4, vec![v(1.0); 4].into());
+        let sizes: Vec<_> = mip_chain(&column)
+            .iter()
+            .map(|l| (l.width, l.height))
+            .collect();
+        assert_eq!(sizes, [(1, 4), (1, 2), (1, 1)]);
         // 4×4 texels x + 4y: each texel of level 1 the mean of its 2×2
         // block, (0 + 1 + 4 + 5)/4 = 2.5, then 4.5, 10.5, 12.5.
         let grid = texture(4, 4, (0..16).map(|i| v(i as f32)).collect());
