@@ -57,11 +57,16 @@ pub fn downsample(level: &MipLevel) -> MipLevel {
 
 /// Level 0 (the texture itself) down to 1×1.
 pub fn mip_chain(t: &Texture) -> Vec<MipLevel> {
-    let mut levels = vec![MipLevel {
+    halved_down_to_one(MipLevel {
         width: t.width,
         height: t.height,
         texels: t.texels.to_linear(),
-    }];
+    })
+}
+
+/// `first` and every level below it, down to 1×1.
+fn halved_down_to_one(first: MipLevel) -> Vec<MipLevel> {
+    let mut levels = vec![first];
     while let Some(last) = levels.last().filter(|l| l.width > 1 || l.height > 1) {
         let next = downsample(last);
         levels.push(next);
@@ -80,12 +85,7 @@ pub fn coarser_levels(t: &Texture) -> Vec<Texture> {
     if w * h <= 1 || t.texels.len() != w * h {
         return Vec::new();
     }
-    let mut linear = vec![downsample_with(w, h, |i| t.texels.get(i))];
-    while let Some(last) = linear.last().filter(|l| l.width > 1 || l.height > 1) {
-        let next = downsample(last);
-        linear.push(next);
-    }
-    linear
+    halved_down_to_one(downsample_with(w, h, |i| t.texels.get(i)))
         .into_par_iter()
         .map(|l| Texture {
             name: t.name.clone(),

@@ -36,7 +36,7 @@
 
 use glam::Vec2;
 use penumbra_scene::mipmap::coarser_levels;
-use penumbra_scene::{Camera, Projection, Scene, Texture, TextureId};
+use penumbra_scene::{Camera, Material, Projection, Scene, Texture, TextureId};
 use penumbra_shading::Rgb;
 
 /// The spread no cone exceeds [rad]: wider than a hemisphere means every
@@ -91,6 +91,16 @@ impl RayCone {
         self.width + self.spread * t
     }
 
+    /// The same cone, its apex moved on by `t`: as it arrives at a hit at
+    /// distance `t`.
+    #[inline]
+    pub fn at(&self, t: f32) -> RayCone {
+        RayCone {
+            width: self.width_at(t),
+            spread: self.spread,
+        }
+    }
+
     /// The cone leaving a hit at distance `t` after a bounce: the same
     /// spread after a delta lobe (`pdf` None), else at least the spread of
     /// one of `spp` samples of density `pdf`, `2/√(π spp pdf)`.
@@ -129,6 +139,18 @@ impl Footprint {
     }
 }
 
+/// The textures of `m` that are filtered: those that shape its BSDF
+/// (base colour, metallic–roughness, normal map).
+pub fn filtered_textures(m: &Material) -> impl Iterator<Item = TextureId> {
+    [
+        m.albedo_texture,
+        m.metallic_roughness_texture,
+        m.normal_map.map(|n| n.texture),
+    ]
+    .into_iter()
+    .flatten()
+}
+
 /// The coarser levels of the scene's BSDF textures, and their lookups.
 #[derive(Debug, Default)]
 pub struct TextureLevels {
@@ -143,14 +165,7 @@ impl TextureLevels {
     pub fn new(scene: &Scene) -> Self {
         let mut used = vec![false; scene.textures.len()];
         for m in &scene.materials {
-            for t in [
-                m.albedo_texture,
-                m.metallic_roughness_texture,
-                m.normal_map.map(|n| n.texture),
-            ]
-            .into_iter()
-            .flatten()
-            {
+            for t in filtered_textures(m) {
                 if let Some(u) = used.get_mut(t) {
                     *u = true;
                 }
@@ -210,8 +225,8 @@ impl TextureLevels {
 mod tests {
     use super::*;
     use glam::{Affine2, Vec3};
+    use penumbra_scene::NormalMap;
     use penumbra_scene::texture::Wrap;
-    use penumbra_scene::{Material, NormalMap};
 
     #[test]
     fn camera_cones_are_one_pixel_wide() {

@@ -11,7 +11,7 @@ pub use path::RadianceSink;
 use crate::geometry::{SceneGeometry, SurfaceHit};
 use crate::lights::LightSampler;
 use crate::ray::{Ray, offset_ray_origin};
-use crate::texture_lod::{Footprint, RayCone};
+use crate::texture_lod::{Footprint, RayCone, filtered_textures};
 use glam::Vec3;
 use penumbra_scene::{IntegratorKind, RenderSettings, Scene};
 use penumbra_shading::bsdf::Bsdf;
@@ -79,10 +79,7 @@ impl TraceContext<'_> {
         let material = &self.scene.materials[hit.material];
         let (mut ng, mut ns) = (hit.ng, hit.ns);
         let mut bsdf = material.bsdf;
-        let filtered = material.albedo_texture.is_some()
-            || material.metallic_roughness_texture.is_some()
-            || material.normal_map.is_some();
-        let footprint = if cone_width > 0.0 && filtered {
+        let footprint = if cone_width > 0.0 && filtered_textures(material).next().is_some() {
             Footprint::new(
                 cone_width,
                 wo.dot(ng),

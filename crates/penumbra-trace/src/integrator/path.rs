@@ -156,10 +156,7 @@ pub(crate) fn walk<S: RadianceSink>(
                 st.beta * le * weight,
             );
         }
-        let cone = RayCone {
-            width: st.cone.width_at(hit.t),
-            spread: st.cone.spread,
-        };
+        let cone = st.cone.at(hit.t);
         let shading = ctx.shading(&hit, wo, cone.width);
         if st.depth == 1 {
             *aov = ctx.first_hit_aovs(shading.as_ref(), &hit);

@@ -74,10 +74,7 @@ fn trace(
     }
     let mut radiance = ctx.emitted(&hit, wo);
     // Delta bounces keep the cone's spread (curvature ignored).
-    let cone = RayCone {
-        width: cone.width_at(hit.t),
-        spread: cone.spread,
-    };
+    let cone = cone.at(hit.t);
     let shading = ctx.shading(&hit, wo, cone.width);
     if let Some(f) = first.take() {
         *f.out = ctx.first_hit_aovs(shading.as_ref(), &hit);
