@@ -150,10 +150,21 @@ impl Texture {
     /// Bilinear lookup at `uv` (after [`Texture::uv_transform`]), wrapped
     /// per axis by [`Texture::wrap`].
     pub fn sample(&self, uv: Vec2) -> Rgb {
+        match self.taps(uv) {
+            Some(taps) => self.fetch(&taps),
+            None => Rgb::ONE,
+        }
+    }
+
+    /// Where a bilinear lookup at `uv` reads (after
+    /// [`Texture::uv_transform`], wrapped per axis by [`Texture::wrap`]);
+    /// `None` for a texture with no texels.
+    #[inline]
+    pub fn taps(&self, uv: Vec2) -> Option<BilinearTaps> {
         let uv = self.uv_transform.transform_point2(uv);
         let (w, h) = (self.width as i64, self.height as i64);
         if w == 0 || h == 0 {
-            return Rgb::ONE;
+            return None;
         }
         let x = uv.x * self.width as f32 - 0.5;
         let y = uv.y * self.height as f32 - 0.5;
@@ -167,7 +178,19 @@ impl Texture {
         let [left, right] = [x0, x0.saturating_add(1)].map(|i| self.wrap[0].index(i, w));
         let [top, bottom] =
             [y0, y0.saturating_add(1)].map(|i| self.wrap[1].index(i, h) * self.width as usize);
-        let corners = [top + left, top + right, bottom + left, bottom + right];
+        Some(BilinearTaps {
+            corners: [top + left, top + right, bottom + left, bottom + right],
+            fx,
+            fy,
+        })
+    }
+
+    /// The bilinear blend of the texels `taps` names: `taps` from this
+    /// texture's [`Texture::taps`], or from one of the same
+    /// [`Texture::layout`].
+    #[inline]
+    pub fn fetch(&self, taps: &BilinearTaps) -> Rgb {
+        let BilinearTaps { corners, fx, fy } = *taps;
         // One match per lookup, not per texel.
         match &self.texels {
             Texels::Linear(t) => bilinear(|i| t[i], corners, fx, fy),
@@ -178,6 +201,38 @@ impl Texture {
             Texels::Unorm8(t) => bilinear(|i| decode_unorm8(t[i]), corners, fx, fy),
         }
     }
+
+    /// What decides where a lookup reads: two textures of one layout read
+    /// the same [`BilinearTaps`] at the same UVs (glTF materials often
+    /// share one size and sampler across their maps).
+    pub fn layout(&self) -> TextureLayout {
+        TextureLayout {
+            size: [self.width, self.height],
+            wrap: self.wrap,
+            uv_transform: self.uv_transform,
+            uv_set: self.uv_set,
+        }
+    }
+}
+
+/// The texels a bilinear lookup blends (row-major indices of the top
+/// left, top right, bottom left and bottom right texels) and its weights
+/// along a row (`fx`) and down a column (`fy`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BilinearTaps {
+    pub corners: [usize; 4],
+    pub fx: f32,
+    pub fy: f32,
+}
+
+/// A texture's size, wrap modes, UV transform and UV set: see
+/// [`Texture::layout`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TextureLayout {
+    pub size: [u32; 2],
+    pub wrap: [Wrap; 2],
+    pub uv_transform: Affine2,
+    pub uv_set: usize,
 }
 
 /// ⌊x⌋ as an integer, without a call to libm's `floorf` (x86-64's

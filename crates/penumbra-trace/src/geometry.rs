@@ -326,11 +326,11 @@ impl SceneGeometry {
         })
     }
 
-    /// ½ log2(A_uv / A_world) of `triangle` for UV sets 0 and 1 (the
-    /// barycentric corners (0, 0), (1, 0), (0, 1) for a set the mesh
-    /// lacks): how many UV units a world length spans there, as a log, for
-    /// [`crate::texture_lod::Footprint`]. −∞ where the UVs are degenerate.
-    pub fn uv_density(&self, scene: &Scene, triangle: u32) -> [f32; 2] {
+    /// A_uv / A_world of `triangle` for UV sets 0 and 1 (the barycentric
+    /// corners (0, 0), (1, 0), (0, 1) for a set the mesh lacks): how many
+    /// square UV units a square world unit spans there, for
+    /// [`crate::texture_lod::Footprint`]. 0 where the UVs are degenerate.
+    pub fn uv_area_ratio(&self, scene: &Scene, triangle: u32) -> [f32; 2] {
         let src = self.sources[triangle as usize];
         let mesh = &scene.meshes[scene.instances[src.instance as usize].mesh];
         let idx = mesh.indices[src.local as usize].map(|i| i as usize);
@@ -344,7 +344,7 @@ impl SceneGeometry {
                 }
                 None => 0.5,
             };
-            0.5 * (uv_area / world).log2()
+            uv_area / world
         })
     }
 

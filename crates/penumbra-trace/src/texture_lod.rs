@@ -7,11 +7,12 @@
 //! the whole footprint of its cone, so it reads the mip level whose texels
 //! are that footprint's size:
 //!
-//! `λ = log2(W / |cos θ|) + ½ log2(A_uv / A_world) + ½ log2(w_tex h_tex |det T|)`
+//! `λ = ½ log2((W / |cos θ|)² · A_uv / A_world · w_tex h_tex |det T|)`
 //!
-//! with W the cone's width at the hit, θ the angle between the ray and the
-//! geometric normal, A_uv and A_world the triangle's areas in UV space and
-//! in the world, and T the texture's `KHR_texture_transform`. Levels are
+//! (½ log2 of the texels the footprint covers) with W the cone's width at
+//! the hit, θ the angle between the ray and the geometric normal, A_uv and
+//! A_world the triangle's areas in UV space and in the world, and T the
+//! texture's `KHR_texture_transform`: one logarithm per lookup. Levels are
 //! blended trilinearly; λ ≤ 0 reads level 0 exactly as a plain lookup.
 //!
 //! Camera rays start with the pixel's cone (`γ = 2 tan(½ fov_y) / height`
@@ -36,6 +37,7 @@
 
 use glam::Vec2;
 use penumbra_scene::mipmap::coarser_levels;
+use penumbra_scene::texture::{BilinearTaps, TextureLayout};
 use penumbra_scene::{Camera, Material, Projection, Scene, Texture, TextureId};
 use penumbra_shading::Rgb;
 
@@ -120,42 +122,46 @@ impl RayCone {
     }
 }
 
-/// log2 of a cone's footprint in UV units, per UV set, at one hit (from
-/// which each texture's level follows): `None` reads level 0.
+/// A cone's footprint at one hit: its area in square UV units, per UV
+/// set (from which each texture's level follows); `None` reads level 0.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Footprint(pub Option<[f32; 2]>);
 
 impl Footprint {
     /// The footprint of a cone `width` wide meeting a surface at `cos` =
-    /// |ray · geometric normal|, on a triangle whose UV density is
-    /// `uv_density` = ½ log2(A_uv / A_world) per set.
-    pub fn new(width: f32, cos: f32, uv_density: [f32; 2]) -> Footprint {
+    /// |ray · geometric normal|, on a triangle whose UV sets span
+    /// `uv_area_ratio` = A_uv / A_world: `(W / |cos θ|)² A_uv / A_world`.
+    pub fn new(width: f32, cos: f32, uv_area_ratio: [f32; 2]) -> Footprint {
         // Also NaN: no footprint.
         if width.is_nan() || width <= 0.0 {
             return Footprint(None);
         }
-        let base = (width / cos.abs().max(MIN_COS)).log2();
-        Footprint(Some(uv_density.map(|d| base + d)))
+        let across = width / cos.abs().max(MIN_COS);
+        Footprint(Some(uv_area_ratio.map(|r| across * across * r)))
     }
 }
 
 /// The textures of `m` that are filtered: those that shape its BSDF
-/// (base colour, metallic–roughness, normal map).
+/// (base colour, metallic–roughness, normal map), in [`filtered_maps`]'s
+/// order.
 pub fn filtered_textures(m: &Material) -> impl Iterator<Item = TextureId> {
+    filtered_maps(m).into_iter().flatten()
+}
+
+/// `m`'s base colour, metallic–roughness and normal map textures.
+pub fn filtered_maps(m: &Material) -> [Option<TextureId>; 3] {
     [
         m.albedo_texture,
         m.metallic_roughness_texture,
         m.normal_map.map(|n| n.texture),
     ]
-    .into_iter()
-    .flatten()
 }
 
 /// The coarser levels of the scene's BSDF textures, and their lookups.
 #[derive(Debug, Default)]
 pub struct TextureLevels {
     /// Per scene texture: levels 1.. (empty: never filtered) and
-    /// ½ log2(w h |det T|), the texel density of its level 0 per UV unit.
+    /// w h |det T|, the texels of its level 0 per square UV unit.
     levels: Vec<(Vec<Texture>, f32)>,
 }
 
@@ -177,11 +183,11 @@ impl TextureLevels {
             .zip(used)
             .map(|(t, used)| {
                 let det = t.uv_transform.matrix2.determinant().abs();
-                let density = 0.5 * (t.width as f32 * t.height as f32 * det).log2();
+                let texels_per_uv = t.width as f32 * t.height as f32 * det;
                 if used {
-                    (coarser_levels(t), density)
+                    (coarser_levels(t), texels_per_uv)
                 } else {
-                    (Vec::new(), density)
+                    (Vec::new(), texels_per_uv)
                 }
             })
             .collect();
@@ -198,27 +204,98 @@ impl TextureLevels {
         uvs: [Vec2; 2],
         footprint: Footprint,
     ) -> Rgb {
+        self.read(scene, id, self.reads(scene, id, uvs, footprint))
+    }
+
+    /// [`TextureLevels::lookup`] of several textures at one hit (`None`
+    /// for an absent map): each map whose layout (size, wrap, transform,
+    /// UV set) is its predecessor's reuses that one's level and texel
+    /// positions, so a material whose maps share a layout pays for one
+    /// level choice and one set of taps, not one per map.
+    pub fn lookup_maps<const N: usize>(
+        &self,
+        scene: &Scene,
+        ids: [Option<TextureId>; N],
+        uvs: [Vec2; 2],
+        footprint: Footprint,
+    ) -> [Option<Rgb>; N] {
+        let mut previous: Option<(TextureLayout, usize, Reads)> = None;
+        ids.map(|id| {
+            let id = id?;
+            let layout = scene.textures[id].layout();
+            let count = self.levels.get(id).map_or(0, |l| l.0.len());
+            let reads = match previous {
+                Some((l, c, reads)) if l == layout && c == count => reads,
+                _ => self.reads(scene, id, uvs, footprint),
+            };
+            previous = Some((layout, count, reads));
+            Some(self.read(scene, id, reads))
+        })
+    }
+
+    /// Where a lookup of texture `id` reads: the level λ selects and its
+    /// taps, and the next level's with its weight where λ falls between.
+    fn reads(&self, scene: &Scene, id: TextureId, uvs: [Vec2; 2], footprint: Footprint) -> Reads {
         let texture = &scene.textures[id];
-        let (Some(base), Some((levels, density))) = (footprint.0, self.levels.get(id)) else {
-            return texture.lookup(uvs);
+        let uv = uvs[texture.uv_set.min(1)];
+        let level_zero = Reads {
+            level: 0,
+            taps: texture.taps(uv),
+            next: None,
         };
-        let lambda = base[texture.uv_set.min(1)] + density;
+        let (Some(area), Some((levels, texels_per_uv))) = (footprint.0, self.levels.get(id)) else {
+            return level_zero;
+        };
+        // λ = ½ log2 of the texels the footprint covers.
+        let lambda = 0.5 * (area[texture.uv_set.min(1)] * texels_per_uv).log2();
         if lambda.is_nan() || lambda <= 0.0 || levels.is_empty() {
-            return texture.lookup(uvs);
+            return level_zero;
         }
         let lambda = lambda.min(levels.len() as f32);
         let i = lambda.floor() as usize;
         let f = lambda - i as f32;
-        let level = |l: usize| match l {
-            0 => texture.lookup(uvs),
-            _ => levels[l - 1].lookup(uvs),
+        let taps = |l: usize| match l {
+            0 => texture.taps(uv),
+            _ => levels[l - 1].taps(uv),
         };
-        if f == 0.0 {
-            level(i)
-        } else {
-            level(i).lerp(level(i + 1), f)
+        Reads {
+            level: i,
+            taps: taps(i),
+            next: if f == 0.0 {
+                None
+            } else {
+                taps(i + 1).map(|t| (t, f))
+            },
         }
     }
+
+    /// The texels `reads` names, of texture `id` (white for a texture
+    /// with no texels, as [`Texture::sample`]).
+    fn read(&self, scene: &Scene, id: TextureId, reads: Reads) -> Rgb {
+        let level = |l: usize| match l {
+            0 => &scene.textures[id],
+            _ => &self.levels[id].0[l - 1],
+        };
+        let Some(taps) = reads.taps else {
+            return Rgb::ONE;
+        };
+        let value = level(reads.level).fetch(&taps);
+        match reads.next {
+            None => value,
+            Some((next, f)) => value.lerp(level(reads.level + 1).fetch(&next), f),
+        }
+    }
+}
+
+/// Where one filtered lookup reads ([`TextureLevels::reads`]).
+#[derive(Clone, Copy, Debug)]
+struct Reads {
+    /// The level of `taps` (0: the texture itself).
+    level: usize,
+    /// `None`: the texture has no texels.
+    taps: Option<BilinearTaps>,
+    /// The next level's taps and their weight.
+    next: Option<(BilinearTaps, f32)>,
 }
 
 #[cfg(test)]
@@ -300,28 +377,30 @@ mod tests {
 
     #[test]
     fn footprints_grow_at_grazing_angles() {
-        assert_eq!(Footprint::new(0.0, 1.0, [0.0; 2]), Footprint(None));
-        assert_eq!(Footprint::new(-1.0, 1.0, [0.0; 2]), Footprint(None));
-        // log2(0.5 / 0.5) = 0, plus each set's density.
+        assert_eq!(Footprint::new(0.0, 1.0, [1.0; 2]), Footprint(None));
+        assert_eq!(Footprint::new(-1.0, 1.0, [1.0; 2]), Footprint(None));
+        assert_eq!(Footprint::new(f32::NAN, 1.0, [1.0; 2]), Footprint(None));
+        // (0.5 / 0.5)² = 1 square world unit, times each set's ratio.
         assert_eq!(
-            Footprint::new(0.5, -0.5, [1.0, -2.0]),
-            Footprint(Some([1.0, -2.0]))
+            Footprint::new(0.5, -0.5, [2.0, 0.25]),
+            Footprint(Some([2.0, 0.25]))
         );
-        // Head-on, log2(0.25) = −2; grazing clamps at cos = 10⁻³.
+        // Head-on, 0.25² = 1/16; grazing clamps at cos = 10⁻³.
         assert_eq!(
-            Footprint::new(0.25, 1.0, [0.0; 2]),
-            Footprint(Some([-2.0; 2]))
+            Footprint::new(0.25, 1.0, [1.0, 3.0]),
+            Footprint(Some([0.0625, 0.1875]))
         );
-        let Footprint(Some([g, _])) = Footprint::new(1.0, 0.0, [0.0; 2]) else {
+        let Footprint(Some([g, _])) = Footprint::new(1.0, 0.0, [1.0; 2]) else {
             panic!()
         };
-        assert!((g - 1e3f32.log2()).abs() < 1e-4);
+        assert!((g / 1e6 - 1.0).abs() < 1e-5, "{g}");
     }
 
     /// One bright texel (16) at (3, 0) of a black 4×4 texture, clamped at
     /// the edges: at its centre level 0 reads 16, level 1 (its 2×2 block's
     /// mean) 4, level 2 (the mean) 1; levels between are blended linearly
-    /// in λ = footprint + ½ log2(w h |det T|) = footprint + 2.
+    /// in λ = ½ log2(footprint · w h |det T|): a footprint of 2^(2λ − 4)
+    /// square UV units on the 4×4 texture.
     #[test]
     fn lookups_blend_the_levels_around_lambda() {
         let mut texels = vec![Rgb::ZERO; 16];
@@ -359,7 +438,12 @@ mod tests {
         let at = Vec2::new(0.875, 0.125);
         let read = |id, uvs, lambda: [f32; 2]| {
             levels
-                .lookup(&scene, id, uvs, Footprint(Some(lambda.map(|l| l - 2.0))))
+                .lookup(
+                    &scene,
+                    id,
+                    uvs,
+                    Footprint(Some(lambda.map(|l| (2.0 * l - 4.0).exp2()))),
+                )
                 .x
         };
         for (lambda, expected) in [
@@ -381,5 +465,66 @@ mod tests {
         assert_eq!(levels.lookup(&scene, 0, [at; 2], Footprint(None)).x, 16.0);
         // NaN (0/0 densities) reads level 0.
         assert_eq!(read(0, [at; 2], [f32::NAN; 2]), 16.0);
+    }
+
+    /// Maps of one layout share their reads; maps of another size or
+    /// wrap mode read their own texels: every map of `lookup_maps` is its
+    /// own `lookup`, near an edge (where clamping and repeating differ) and
+    /// between levels.
+    #[test]
+    fn maps_of_one_layout_share_their_reads() {
+        let ramp = |size: u32, offset: f32, wrap| Texture {
+            name: "ramp".into(),
+            width: size,
+            height: size,
+            texels: (0..size * size)
+                .map(|i| Rgb::splat(offset + i as f32))
+                .collect(),
+            wrap: [wrap; 2],
+            uv_transform: Affine2::IDENTITY,
+            uv_set: 0,
+        };
+        let mut scene = Scene::default();
+        scene.textures = vec![
+            ramp(4, 0.0, Wrap::ClampToEdge),
+            ramp(4, 100.0, Wrap::ClampToEdge),
+            ramp(4, 0.0, Wrap::Repeat),
+            ramp(8, 0.0, Wrap::ClampToEdge),
+        ];
+        scene.add_material(Material {
+            albedo_texture: Some(0),
+            metallic_roughness_texture: Some(1),
+            normal_map: Some(NormalMap {
+                texture: 2,
+                scale: 1.0,
+            }),
+            ..Material::lambert("a", Rgb::ONE)
+        });
+        scene.add_material(Material {
+            albedo_texture: Some(3),
+            ..Material::lambert("b", Rgb::ONE)
+        });
+        let levels = TextureLevels::new(&scene);
+        for uv in [Vec2::new(0.95, 0.4), Vec2::new(0.3, 0.99)] {
+            for area in [None, Some(0.01f32), Some(0.2)] {
+                let footprint = Footprint(area.map(|a| [a; 2]));
+                let one = |id| Some(levels.lookup(&scene, id, [uv; 2], footprint));
+                for ids in [[0, 1, 2], [0, 2, 1], [1, 0, 3], [3, 0, 0]] {
+                    let got = levels.lookup_maps(&scene, ids.map(Some), [uv; 2], footprint);
+                    assert_eq!(got, ids.map(one), "{ids:?} at {uv}, {area:?}");
+                }
+                assert_eq!(
+                    levels.lookup_maps(&scene, [None, Some(1), None], [uv; 2], footprint),
+                    [None, one(1), None]
+                );
+            }
+        }
+        // The sharing reads other texels where it should: repeating wraps
+        // to the first column, clamping keeps the last.
+        let edge = Vec2::new(0.99, 0.125);
+        let [clamped, repeated] =
+            levels.lookup_maps(&scene, [Some(0), Some(2)], [edge; 2], Footprint(None));
+        assert!((clamped.unwrap().x - 3.0).abs() < 1e-5);
+        assert!((repeated.unwrap().x - (3.0 - 3.0 * 0.46)).abs() < 1e-4);
     }
 }

@@ -11,7 +11,7 @@ pub use path::RadianceSink;
 use crate::geometry::{SceneGeometry, SurfaceHit};
 use crate::lights::LightSampler;
 use crate::ray::{Ray, offset_ray_origin};
-use crate::texture_lod::{Footprint, RayCone, filtered_textures};
+use crate::texture_lod::{Footprint, RayCone, filtered_maps, filtered_textures};
 use glam::Vec3;
 use penumbra_scene::{IntegratorKind, RenderSettings, Scene};
 use penumbra_shading::bsdf::Bsdf;
@@ -83,40 +83,39 @@ impl TraceContext<'_> {
             Footprint::new(
                 cone_width,
                 wo.dot(ng),
-                self.geometry.uv_density(self.scene, hit.triangle),
+                self.geometry.uv_area_ratio(self.scene, hit.triangle),
             )
         } else {
             Footprint(None)
         };
-        let lookup = |t| {
-            self.geometry
-                .texture_levels
-                .lookup(self.scene, t, hit.uvs, footprint)
-        };
-        if let Some(t) = material.albedo_texture {
-            bsdf = bsdf.tinted(lookup(t));
+        // The three maps at once: where they share a layout, they share
+        // the level choice and the texel positions.
+        let [albedo, metallic_roughness, normal] = self.geometry.texture_levels.lookup_maps(
+            self.scene,
+            filtered_maps(material),
+            hit.uvs,
+            footprint,
+        );
+        if let Some(texel) = albedo {
+            bsdf = bsdf.tinted(texel);
         }
         // glTF COLOR_0 multiplies the base colour (as the texture does).
         if hit.color != Vec3::ONE {
             bsdf = bsdf.tinted(hit.color);
         }
         // glTF metallicRoughnessTexture: roughness × G, metallic × B.
-        if let (Some(t), Bsdf::MetallicRoughness(mut m)) =
-            (material.metallic_roughness_texture, bsdf)
-        {
-            let texel = lookup(t);
+        if let (Some(texel), Bsdf::MetallicRoughness(mut m)) = (metallic_roughness, bsdf) {
             m.roughness *= texel.y;
             m.metallic *= texel.z;
             bsdf = Bsdf::MetallicRoughness(m);
         }
         // glTF normalTexture: the shading normal from the map in the mesh's
         // tangent frame (kept only on the geometric normal's side).
-        if let Some(map) = material.normal_map
+        if let (Some(map), Some(texel)) = (material.normal_map, normal)
             && let Some(t) = self
                 .geometry
                 .tangent_at(self.scene, hit.triangle, hit.b1, hit.b2)
         {
-            let texel = lookup(map.texture);
             let mapped = map.perturb(texel, ns, t);
             if mapped.dot(ng) > 0.0 {
                 ns = mapped;
