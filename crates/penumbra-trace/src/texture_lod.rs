@@ -484,13 +484,15 @@ mod tests {
             uv_transform: Affine2::IDENTITY,
             uv_set: 0,
         };
-        let mut scene = Scene::default();
-        scene.textures = vec![
-            ramp(4, 0.0, Wrap::ClampToEdge),
-            ramp(4, 100.0, Wrap::ClampToEdge),
-            ramp(4, 0.0, Wrap::Repeat),
-            ramp(8, 0.0, Wrap::ClampToEdge),
-        ];
+        let mut scene = Scene {
+            textures: vec![
+                ramp(4, 0.0, Wrap::ClampToEdge),
+                ramp(4, 100.0, Wrap::ClampToEdge),
+                ramp(4, 0.0, Wrap::Repeat),
+                ramp(8, 0.0, Wrap::ClampToEdge),
+            ],
+            ..Scene::default()
+        };
         scene.add_material(Material {
             albedo_texture: Some(0),
             metallic_roughness_texture: Some(1),
