@@ -165,4 +165,33 @@ mod tests {
             assert!(h, "missed at s = {s}");
         }
     }
+
+    /// A ray that passes beside a triangle's edge by less than f32 can
+    /// resolve: along −z from the origin the sheared plane is (y, x), and
+    /// with ε = 2⁻²³ the edge function of b = (1, 1 + ε), c = (−(1 + ε),
+    /// −(1 + 2ε)) is (1 + 2ε) − (1 + ε)², which is 0 in f32 (the product
+    /// rounds to 1 + 2ε) but −ε² exactly, while the other two are
+    /// positive for a = (−1, 1): the origin is outside, a miss. Rotating
+    /// the vertices puts the vanishing edge function in each of U, V and
+    /// W: each one alone must send the test to the exact f64 path.
+    #[test]
+    fn single_zero_edge_functions_are_recomputed_exactly() {
+        let e = f32::EPSILON;
+        assert_eq!((1.0 + e) * (1.0 + e) - (1.0 + 2.0 * e), 0.0);
+        // World points (x, y) = (sheared y, sheared x), one unit below.
+        let at = |sx: f32, sy: f32| Vec3::new(sy, sx, -1.0);
+        let a = at(-1.0, 1.0);
+        let b = at(1.0, 1.0 + e);
+        let c = at(-(1.0 + e), -(1.0 + 2.0 * e));
+        let r = WatertightRay::new(Vec3::ZERO, -Vec3::Z);
+        for (p0, p1, p2) in [(a, b, c), (b, c, a), (c, a, b)] {
+            assert_eq!(r.intersect(p0, p1, p2, f32::INFINITY), None);
+        }
+        // With c moved so that the origin is inside (U = ½ − ε), it is
+        // hit whatever the order.
+        let c = at(-1.0, -1.5);
+        for (p0, p1, p2) in [(a, b, c), (b, c, a), (c, a, b)] {
+            assert!(r.intersect(p0, p1, p2, f32::INFINITY).is_some());
+        }
+    }
 }
