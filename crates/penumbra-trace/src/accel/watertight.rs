@@ -166,6 +166,29 @@ mod tests {
         }
     }
 
+    /// Rays exactly through the shared diagonal of a square (an edge
+    /// function exactly 0, the others of one sign) or through its corner
+    /// (two zeros) hit one of its triangles, with either winding (the
+    /// nonzero edge functions positive, or negative).
+    #[test]
+    fn rays_exactly_on_an_edge_hit() {
+        let (p0, p1, p2, p3) = (Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::Y);
+        for s in [0.0, 0.125, 0.25, 0.5, 0.8125] {
+            let r = WatertightRay::new(Vec3::new(s, s, 1.0), -Vec3::Z);
+            for [a, b, c, d] in [[p0, p1, p2, p3], [p0, p3, p2, p1]] {
+                // Each rotation puts the zero in another of U, V, W.
+                let rotations = |[x, y, z]: [Vec3; 3]| [[x, y, z], [y, z, x], [z, x, y]];
+                for (t1, t2) in rotations([a, b, c]).into_iter().zip(rotations([a, c, d])) {
+                    let hit = r
+                        .intersect(t1[0], t1[1], t1[2], f32::INFINITY)
+                        .or_else(|| r.intersect(t2[0], t2[1], t2[2], f32::INFINITY));
+                    let h = hit.unwrap_or_else(|| panic!("missed the edge at s = {s}"));
+                    assert_eq!(h.t, 1.0);
+                }
+            }
+        }
+    }
+
     /// A ray that passes beside a triangle's edge by less than f32 can
     /// resolve: along −z from the origin the sheared plane is (y, x), and
     /// with ε = 2⁻²³ the edge function of b = (1, 1 + ε), c = (−(1 + ε),
