@@ -331,3 +331,39 @@ fn unlit_materials_show_their_base_colour_in_both_engines() {
         );
     }
 }
+
+/// `bench --texture-breakdown` on a model with base colour,
+/// metallic–roughness and normal maps prices the textures together and
+/// each kind alone (their throughputs are measured, not checked: the
+/// machines are shared).
+#[test]
+fn bench_prices_each_kind_of_map() {
+    let tmp = tempfile::tempdir().unwrap();
+    let path = sample("DamagedHelmet");
+    let o = penumbra(
+        &[
+            "bench",
+            path.to_str().unwrap(),
+            "--ray-resolution",
+            "32",
+            "--spp",
+            "1",
+            "--texture-breakdown",
+        ],
+        tmp.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    for line in [
+        "path-untextured",
+        "textures cost",
+        "path-mean-base-colour",
+        "base colour alone costs",
+        "path-mean-metallic-roughness",
+        "metallic-roughness alone costs",
+        "path-mean-normal",
+        "normal map alone costs",
+    ] {
+        assert!(out.contains(line), "no '{line}' in {out}");
+    }
+}

@@ -93,6 +93,12 @@ pub struct BenchArgs {
     /// the built-in Cornell box), in one run.
     #[arg(long, num_args = 0..)]
     pub bake: Option<Vec<PathBuf>>,
+    /// Trace, textured scenes: also the cost of each kind of map alone
+    /// (base colour, metallic–roughness, normal map): the scene with
+    /// only that kind replaced by its mean, against the textured scene,
+    /// timed in the same order as the total.
+    #[arg(long)]
+    pub texture_breakdown: bool,
     /// With --bake (trace): patch counts of the radiosity timings.
     #[arg(long, value_delimiter = ',', default_value = "1000,4000,16000")]
     pub patches: Vec<u32>,
@@ -384,21 +390,51 @@ fn run_measures(args: &BenchArgs, scene: &Scene, load: Option<Measure>) -> Resul
             // second of the same scene (measured), so the two are timed
             // in the order plain, textured, textured, plain, each the sum
             // of its two renders.
-            let untextured = without_textures(scene);
-            let first = path("path-untextured", &untextured);
-            let textured = sum(path("path", scene), path("path", scene));
-            let plain = sum(first, path("path-untextured", &untextured));
+            let abba = |name, variant: &Scene| {
+                let first = path(name, variant);
+                let textured = sum(path("path", scene), path("path", scene));
+                (textured, sum(first, path(name, variant)))
+            };
+            let (textured, plain) = abba("path-untextured", &without_maps(scene, |_| true));
             report(&textured, args.json, "Msamples/s");
             report(&plain, args.json, "Msamples/s");
-            if !args.json {
-                // Per ray as well: the textures also change the paths
-                // (normal maps, roughness), so their lengths differ.
-                let per_ray = |m: &Measure| m.seconds / m.hits.max(1) as f64;
-                println!(
-                    "textures cost {:.1} % of path throughput ({:.1} % of the time per ray)",
+            // Per ray as well: the textures also change the paths (normal
+            // maps, roughness), so their lengths differ.
+            let per_ray = |m: &Measure| m.seconds / m.hits.max(1) as f64;
+            let cost = |textured: &Measure, plain: &Measure| {
+                (
                     100.0 * (1.0 - plain.seconds / textured.seconds),
-                    100.0 * (1.0 - per_ray(&plain) / per_ray(&textured))
+                    100.0 * (1.0 - per_ray(plain) / per_ray(textured)),
+                )
+            };
+            if !args.json {
+                let (total, ray) = cost(&textured, &plain);
+                println!(
+                    "textures cost {total:.1} % of path throughput ({ray:.1} % of the time per ray)"
                 );
+            }
+            if args.texture_breakdown {
+                for (kind, name, label) in [
+                    (MapKind::BaseColour, "path-mean-base-colour", "base colour"),
+                    (
+                        MapKind::MetallicRoughness,
+                        "path-mean-metallic-roughness",
+                        "metallic-roughness",
+                    ),
+                    (MapKind::Normal, "path-mean-normal", "normal map"),
+                ] {
+                    if !scene.materials.iter().any(|m| kind.textured(m)) {
+                        continue;
+                    }
+                    let (textured, variant) = abba(name, &without_maps(scene, |k| k == kind));
+                    report(&variant, args.json, "Msamples/s");
+                    if !args.json {
+                        let (total, ray) = cost(&textured, &variant);
+                        println!(
+                            "  {label} alone costs {total:.1} % ({ray:.1} % per ray; the other maps kept)"
+                        );
+                    }
+                }
             }
         }
     }
@@ -415,11 +451,37 @@ fn sum(a: Measure, b: Measure) -> Measure {
     }
 }
 
-/// `scene` with no texture on any material: each texture's mean texel
-/// folded into the factors it multiplies (base colour, roughness and
-/// metallic, emission), so that the materials stay alike on average; no
-/// normal, occlusion or coverage maps.
-fn without_textures(scene: &Scene) -> Scene {
+/// The kinds of texture a material reads.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum MapKind {
+    BaseColour,
+    MetallicRoughness,
+    Normal,
+    Emission,
+    Occlusion,
+    Alpha,
+}
+
+impl MapKind {
+    /// Whether `m` reads a texture of this kind.
+    fn textured(self, m: &penumbra_scene::Material) -> bool {
+        match self {
+            MapKind::BaseColour => m.albedo_texture.is_some(),
+            MapKind::MetallicRoughness => m.metallic_roughness_texture.is_some(),
+            MapKind::Normal => m.normal_map.is_some(),
+            MapKind::Emission => m.emission_texture.is_some(),
+            MapKind::Occlusion => m.occlusion_map.is_some(),
+            MapKind::Alpha => m.alpha.is_some_and(|a| a.texture.is_some()),
+        }
+    }
+}
+
+/// `scene` with the textures of the kinds `strip` names removed from
+/// every material: each texture's mean texel folded into the factors it
+/// multiplies (base colour, roughness and metallic, emission, coverage),
+/// so that the materials stay alike on average; normal and occlusion maps
+/// dropped.
+fn without_maps(scene: &Scene, strip: impl Fn(MapKind) -> bool) -> Scene {
     use penumbra_shading::bsdf::Bsdf;
     let mean = |t: usize| {
         let texels = &scene.textures[t].texels;
@@ -427,22 +489,32 @@ fn without_textures(scene: &Scene) -> Scene {
     };
     let mut plain = scene.clone();
     for m in &mut plain.materials {
-        if let Some(t) = m.albedo_texture.take() {
+        if strip(MapKind::BaseColour)
+            && let Some(t) = m.albedo_texture.take()
+        {
             m.bsdf = m.bsdf.tinted(mean(t));
         }
-        if let (Some(t), Bsdf::MetallicRoughness(mr)) =
-            (m.metallic_roughness_texture.take(), &mut m.bsdf)
+        if strip(MapKind::MetallicRoughness)
+            && let (Some(t), Bsdf::MetallicRoughness(mr)) =
+                (m.metallic_roughness_texture.take(), &mut m.bsdf)
         {
             let texel = mean(t);
             mr.roughness *= texel.y;
             mr.metallic *= texel.z;
         }
-        if let Some(t) = m.emission_texture.take() {
+        if strip(MapKind::Emission)
+            && let Some(t) = m.emission_texture.take()
+        {
             m.emission *= mean(t);
         }
-        m.normal_map = None;
-        m.occlusion_map = None;
-        if let Some(a) = &mut m.alpha
+        if strip(MapKind::Normal) {
+            m.normal_map = None;
+        }
+        if strip(MapKind::Occlusion) {
+            m.occlusion_map = None;
+        }
+        if strip(MapKind::Alpha)
+            && let Some(a) = &mut m.alpha
             && let Some(t) = a.texture.take()
         {
             a.factor *= mean(t).x;
