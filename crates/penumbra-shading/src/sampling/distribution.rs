@@ -4,10 +4,17 @@
 
 /// Piecewise-constant discrete distribution over `n` items with weights w_i:
 /// p(i) = w_i / Σw.
+///
+/// Sampling inverts the CDF with a guide table (the cutpoint method of
+/// Chen & Asau 1974): `guide[k]` is the first item whose CDF exceeds
+/// k/n · Σw, so the item for u lies between `guide[⌊u n⌋]` and
+/// `guide[⌊u n⌋ + 1]` and the search covers those few entries, not all n.
 #[derive(Clone, Debug, Default)]
 pub struct Distribution1D {
     cdf: Vec<f64>,
     total: f64,
+    /// n + 1 cutpoints (empty when all weights are 0).
+    guide: Vec<u32>,
 }
 
 impl Distribution1D {
@@ -21,7 +28,18 @@ impl Distribution1D {
             }
             cdf.push(total);
         }
-        Self { cdf, total }
+        let n = cdf.len();
+        let guide = if total > 0.0 {
+            (0..=n)
+                .map(|k| {
+                    let start = (k as f64 / n as f64) * total;
+                    cdf.partition_point(|&c| c <= start) as u32
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
+        Self { cdf, total, guide }
     }
 
     pub fn is_empty(&self) -> bool {
@@ -48,9 +66,20 @@ impl Distribution1D {
         }
         let target = u as f64 * self.total;
         // First index whose cdf exceeds the target (skips zero-weight
-        // items); for u ≥ 1, where none does, the last item of positive
-        // weight (the first whose cdf reaches the total), as u → 1⁻ gives.
-        let i = match self.cdf.partition_point(|&c| c <= target) {
+        // items), searched between the cutpoints of u's bucket: every
+        // item before guide[k] has cdf ≤ k/n · Σw ≤ target, and item
+        // guide[k + 1] has cdf > (k + 1)/n · Σw ≥ target, so the answer
+        // is in [guide[k], guide[k + 1]] (the search returns the range's
+        // end when all of it is ≤ target). For u ≥ 1, where no item
+        // exceeds it, the last item of positive weight (the first whose
+        // cdf reaches the total), as u → 1⁻ gives.
+        // (A NaN u, which no sampler gives, lands in bucket 0: the first
+        // item of positive weight.)
+        let n = self.cdf.len();
+        let k = ((u as f64 * n as f64) as usize).min(n - 1);
+        let (lo, hi) = (self.guide[k] as usize, self.guide[k + 1] as usize);
+        let found = lo + self.cdf[lo..hi].partition_point(|&c| c <= target);
+        let i = match found {
             i if i < self.cdf.len() => i,
             _ => self.cdf.partition_point(|&c| c < self.total),
         };
@@ -92,6 +121,10 @@ impl Distribution1D {
 pub struct Distribution2D {
     rows: Vec<Distribution1D>,
     marginal: Distribution1D,
+    /// p(u, v) of every cell, row-major: the product [`Distribution2D::sample`]
+    /// returns, kept so that [`Distribution2D::pdf`] is one load.
+    density: Vec<f32>,
+    width: usize,
 }
 
 impl Distribution2D {
@@ -103,7 +136,21 @@ impl Distribution2D {
             .map(|r| Distribution1D::new(r.iter().copied()))
             .collect();
         let marginal = Distribution1D::new(rows.iter().map(|r| r.total as f32));
-        Self { rows, marginal }
+        let (w, h) = (width as f32, height as f32);
+        let density = rows
+            .iter()
+            .enumerate()
+            .flat_map(|(r, row)| {
+                let pv = marginal.pmf(r) * h;
+                (0..width).map(move |c| row.pmf(c) * w * pv)
+            })
+            .collect();
+        Self {
+            rows,
+            marginal,
+            density,
+            width,
+        }
     }
 
     pub fn is_empty(&self) -> bool {
@@ -124,8 +171,14 @@ impl Distribution2D {
         if h == 0 {
             return 0.0;
         }
+        let w = self.width;
+        if w == 0 {
+            return 0.0;
+        }
+        // The cells of `pdf_continuous` along each axis.
         let row = ((uv.y.clamp(0.0, 1.0) * h as f32) as usize).min(h - 1);
-        self.marginal.pdf_continuous(uv.y) * self.rows[row].pdf_continuous(uv.x)
+        let col = ((uv.x.clamp(0.0, 1.0) * w as f32) as usize).min(w - 1);
+        self.density[row * w + col]
     }
 }
 
@@ -147,6 +200,8 @@ mod tests {
         for (u, i) in [(0.0, 0), (0.2499, 0), (0.25, 2), (0.999, 2), (1.0, 2)] {
             assert_eq!(d.sample(u), Some((i, d.pmf(i))), "u = {u}");
         }
+        let leading = Distribution1D::new([0.0, 0.0, 2.0]);
+        assert_eq!(leading.sample(f32::NAN), Some((2, 1.0)));
         let trailing = Distribution1D::new([1.0, 3.0, 0.0, -2.0, f32::NAN]);
         assert_eq!(trailing.len(), 5);
         assert_eq!(trailing.sample(1.0), Some((1, 0.75)));
@@ -218,6 +273,82 @@ mod tests {
             assert!(empty.is_empty());
             assert_eq!(empty.sample([0.5, 0.5]), None);
             assert_eq!(empty.pdf(glam::Vec2::new(0.5, 0.5)), 0.0);
+        }
+    }
+
+    /// The guide table finds the item a full search finds: the first
+    /// whose running sum (in f64, summed here by hand) exceeds u · Σw, for
+    /// weights with zeros, one spike of 10⁶ (a sun in an environment
+    /// map) and a run of equal weights, at random u and at every bucket
+    /// edge k/n and the floats either side of it.
+    #[test]
+    fn guided_search_finds_the_first_cdf_above_u() {
+        let mut rng = crate::stats::TestRng::new(11);
+        let mut spiky: Vec<f32> = (0..97).map(|i| (i % 5) as f32 * 0.1).collect();
+        spiky[40] = 1e6;
+        let sets = [
+            spiky,
+            vec![1.0; 64],
+            vec![0.0, 0.0, 2.0, 0.0, 1e-7, 3.0, 0.0],
+            vec![5.0],
+        ];
+        for weights in sets {
+            let d = Distribution1D::new(weights.iter().copied());
+            let total: f64 = weights.iter().map(|&w| w as f64).sum();
+            let expected = |u: f32| {
+                let target = u as f64 * total;
+                let mut sum = 0.0f64;
+                for (i, &w) in weights.iter().enumerate() {
+                    sum += w as f64;
+                    if sum > target {
+                        return i;
+                    }
+                }
+                // u ≥ 1: the last item of positive weight.
+                weights.iter().rposition(|&w| w > 0.0).unwrap()
+            };
+            let n = weights.len();
+            let mut us: Vec<f32> = (0..2000).map(|_| rng.next_f32()).collect();
+            for k in 0..=n {
+                let edge = k as f32 / n as f32;
+                us.extend([edge, edge.next_down().max(0.0), edge.next_up().min(1.0)]);
+            }
+            us.extend([0.0, 1.0]);
+            for u in us {
+                let (i, p) = d.sample(u).unwrap();
+                assert_eq!(i, expected(u), "u = {u} over {n} weights");
+                assert_eq!(p, d.pmf(i));
+            }
+        }
+    }
+
+    /// The 2-D density is w · W·H / Σw in every cell (computed here from
+    /// the weights), for a grid of random weights with empty rows.
+    #[test]
+    fn grid_density_is_the_normalised_weight() {
+        let mut rng = crate::stats::TestRng::new(3);
+        let (w, h) = (7, 5);
+        let weights: Vec<f32> = (0..w * h)
+            .map(|i| {
+                if i / w == 2 {
+                    0.0
+                } else {
+                    rng.next_f32() * 4.0
+                }
+            })
+            .collect();
+        let d = Distribution2D::new(w, h, &weights);
+        let total: f64 = weights.iter().map(|&x| x as f64).sum();
+        for r in 0..h {
+            for c in 0..w {
+                let uv = glam::Vec2::new((c as f32 + 0.5) / w as f32, (r as f32 + 0.5) / h as f32);
+                let expected = weights[r * w + c] as f64 * (w * h) as f64 / total;
+                let got = d.pdf(uv) as f64;
+                assert!(
+                    (got - expected).abs() <= 1e-6 * expected.max(1.0),
+                    "cell ({c}, {r}): {got} vs {expected}"
+                );
+            }
         }
     }
 
