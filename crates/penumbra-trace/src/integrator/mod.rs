@@ -79,7 +79,8 @@ impl TraceContext<'_> {
         let material = &self.scene.materials[hit.material];
         let (mut ng, mut ns) = (hit.ng, hit.ns);
         let mut bsdf = material.bsdf;
-        let footprint = if cone_width > 0.0 && filtered_textures(material).next().is_some() {
+        // (A cone of width 0, as bakes start with, gives no footprint.)
+        let footprint = if filtered_textures(material).next().is_some() {
             Footprint::new(
                 cone_width,
                 wo.dot(ng),
@@ -233,6 +234,70 @@ impl TraceContext<'_> {
             albedo: s.map_or(Rgb::ZERO, |s| s.bsdf.albedo()),
             normal: s.map_or(hit.ns, |s| s.frame.n),
             depth: hit.t,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::accel::BuildQuality;
+    use glam::{Affine2, Mat4};
+    use penumbra_scene::texture::Wrap;
+    use penumbra_scene::{Material, Texture, primitives};
+    use penumbra_shading::bsdf::MetallicRoughness;
+
+    /// A one-texel texture of linear `rgb`.
+    fn texel(rgb: Rgb) -> Texture {
+        Texture {
+            name: "texel".into(),
+            width: 1,
+            height: 1,
+            texels: vec![rgb].into(),
+            wrap: [Wrap::Repeat; 2],
+            uv_transform: Affine2::IDENTITY,
+            uv_set: 0,
+        }
+    }
+
+    /// glTF's rules at a hit, by hand: base colour 0.8 × texture 0.5 =
+    /// 0.4; roughness 0.8 × G 0.25 = 0.2; metallic 0.5 × B 0.5 = 0.25
+    /// (R unused), whatever the cone.
+    #[test]
+    fn shading_applies_the_maps_by_the_gltf_rules() {
+        let mut scene = Scene {
+            textures: vec![texel(Rgb::splat(0.5)), texel(Rgb::new(0.9, 0.25, 0.5))],
+            ..Scene::default()
+        };
+        let m = scene.add_material(Material {
+            bsdf: Bsdf::MetallicRoughness(MetallicRoughness::new(Rgb::splat(0.8), 0.5, 0.8)),
+            albedo_texture: Some(0),
+            metallic_roughness_texture: Some(1),
+            ..Material::lambert("textured", Rgb::ONE)
+        });
+        let mut quad = primitives::quad(Vec3::new(-1.0, 0.0, -1.0), Vec3::Z * 2.0, Vec3::X * 2.0);
+        quad.material = m;
+        scene.add_mesh(quad, Mat4::IDENTITY);
+        let geometry = SceneGeometry::build(&scene, BuildQuality::Fast);
+        let lights = LightSampler::new(&scene, &geometry);
+        let settings = RenderSettings::default();
+        let ctx = TraceContext {
+            scene: &scene,
+            geometry: &geometry,
+            lights: &lights,
+            settings: &settings,
+            camera_cone: RayCone::POINT,
+        };
+        let ray = Ray::segment(Vec3::new(0.2, 1.0, 0.3), -Vec3::Y, f32::INFINITY);
+        let hit = geometry.intersect(&scene, &ray).expect("the quad");
+        for cone in [0.0, 0.01, 5.0] {
+            let s = ctx.shading(&hit, Vec3::Y, cone).expect("front side");
+            let Bsdf::MetallicRoughness(mr) = s.bsdf else {
+                panic!("{:?}", s.bsdf)
+            };
+            assert!((mr.base_color - Rgb::splat(0.4)).abs().max_element() < 1e-6);
+            assert!((mr.roughness - 0.2).abs() < 1e-6, "{}", mr.roughness);
+            assert!((mr.metallic - 0.25).abs() < 1e-6, "{}", mr.metallic);
         }
     }
 }
