@@ -275,29 +275,123 @@ mod tests {
             metallic_roughness_texture: Some(1),
             ..Material::lambert("textured", Rgb::ONE)
         });
+        add_floor(&mut scene, m);
+        with_context(&scene, |ctx| {
+            let hit = floor_hit(ctx, 1.0);
+            for cone in [0.0, 0.01, 5.0] {
+                let s = ctx.shading(&hit, Vec3::Y, cone).expect("front side");
+                let Bsdf::MetallicRoughness(mr) = s.bsdf else {
+                    panic!("{:?}", s.bsdf)
+                };
+                assert!((mr.base_color - Rgb::splat(0.4)).abs().max_element() < 1e-6);
+                assert!((mr.roughness - 0.2).abs() < 1e-6, "{}", mr.roughness);
+                assert!((mr.metallic - 0.25).abs() < 1e-6, "{}", mr.metallic);
+            }
+        });
+    }
+
+    /// A 2 × 2 quad in the plane y = 0, front (+y) up, of material `m`.
+    fn add_floor(scene: &mut Scene, m: usize) {
         let mut quad = primitives::quad(Vec3::new(-1.0, 0.0, -1.0), Vec3::Z * 2.0, Vec3::X * 2.0);
         quad.material = m;
         scene.add_mesh(quad, Mat4::IDENTITY);
-        let geometry = SceneGeometry::build(&scene, BuildQuality::Fast);
-        let lights = LightSampler::new(&scene, &geometry);
+    }
+
+    /// The floor's hit by a vertical ray from y = `from_y`.
+    fn floor_hit(ctx: &TraceContext, from_y: f32) -> SurfaceHit {
+        let ray = Ray::segment(
+            Vec3::new(0.2, from_y, 0.3),
+            Vec3::new(0.0, -from_y.signum(), 0.0),
+            f32::INFINITY,
+        );
+        ctx.geometry.intersect(ctx.scene, &ray).expect("the floor")
+    }
+
+    fn with_context(scene: &Scene, test: impl FnOnce(&TraceContext)) {
+        let geometry = SceneGeometry::build(scene, BuildQuality::Fast);
+        let lights = LightSampler::new(scene, &geometry);
         let settings = RenderSettings::default();
-        let ctx = TraceContext {
-            scene: &scene,
+        test(&TraceContext {
+            scene,
             geometry: &geometry,
             lights: &lights,
             settings: &settings,
             camera_cone: RayCone::POINT,
+        });
+    }
+
+    /// A one-sided opaque material seen from behind is black (`None`); a
+    /// one-sided transmissive one is seen from behind with its normals
+    /// turned towards the viewer; a two-sided one likewise.
+    #[test]
+    fn one_sided_materials_are_black_from_behind() {
+        let scene = Scene::default();
+        let one_sided = Material {
+            double_sided: false,
+            ..Material::lambert("one-sided", Rgb::splat(0.5))
         };
-        let ray = Ray::segment(Vec3::new(0.2, 1.0, 0.3), -Vec3::Y, f32::INFINITY);
-        let hit = geometry.intersect(&scene, &ray).expect("the quad");
-        for cone in [0.0, 0.01, 5.0] {
-            let s = ctx.shading(&hit, Vec3::Y, cone).expect("front side");
-            let Bsdf::MetallicRoughness(mr) = s.bsdf else {
-                panic!("{:?}", s.bsdf)
-            };
-            assert!((mr.base_color - Rgb::splat(0.4)).abs().max_element() < 1e-6);
-            assert!((mr.roughness - 0.2).abs() < 1e-6, "{}", mr.roughness);
-            assert!((mr.metallic - 0.25).abs() < 1e-6, "{}", mr.metallic);
+        let glass = Material {
+            bsdf: Bsdf::MetallicRoughness(MetallicRoughness {
+                transmission: 1.0,
+                ..MetallicRoughness::new(Rgb::ONE, 0.0, 0.0)
+            }),
+            ..one_sided.clone()
+        };
+        let two_sided = Material::lambert("two-sided", Rgb::splat(0.5));
+        for (material, seen_from_behind) in [(one_sided, false), (glass, true), (two_sided, true)] {
+            let mut scene = scene.clone();
+            let m = scene.add_material(material);
+            add_floor(&mut scene, m);
+            with_context(&scene, |ctx| {
+                let above = ctx.shading(&floor_hit(ctx, 1.0), Vec3::Y, 0.0).unwrap();
+                assert_eq!(above.ng, Vec3::Y);
+                let below = ctx.shading(&floor_hit(ctx, -1.0), -Vec3::Y, 0.0);
+                assert_eq!(below.is_some(), seen_from_behind);
+                if let Some(s) = below {
+                    assert_eq!(s.ng, -Vec3::Y);
+                    assert!(s.wo_local.z > 0.99, "{}", s.wo_local);
+                }
+            });
         }
+    }
+
+    /// A direction counts only where the geometric and the shading
+    /// surface agree on its side, and never along either surface.
+    #[test]
+    fn consistent_side_needs_both_surfaces_to_agree() {
+        let mut scene = Scene::default();
+        let m = scene.add_material(Material::lambert("m", Rgb::ONE));
+        add_floor(&mut scene, m);
+        with_context(&scene, |ctx| {
+            let s = ctx.shading(&floor_hit(ctx, 1.0), Vec3::Y, 0.0).unwrap();
+            // World directions (the floor's normal is +y) and local ones
+            // (the shading normal is +z).
+            let (up, down, along) = (
+                Vec3::new(0.3, 0.8, 0.1),
+                Vec3::new(0.3, -0.8, 0.1),
+                Vec3::new(0.6, 0.0, 0.8),
+            );
+            let (l_up, l_down, l_along) = (
+                Vec3::new(0.3, 0.1, 0.8),
+                Vec3::new(0.3, 0.1, -0.8),
+                Vec3::new(0.6, 0.8, 0.0),
+            );
+            for (wi, local, expected) in [
+                (up, l_up, true),
+                (down, l_down, true),
+                (up, l_down, false),
+                (down, l_up, false),
+                (along, l_up, false),
+                (along, l_down, false),
+                (up, l_along, false),
+                (down, l_along, false),
+            ] {
+                assert_eq!(
+                    TraceContext::consistent_side(&s, wi, local.normalize()),
+                    expected,
+                    "world {wi}, local {local}"
+                );
+            }
+        });
     }
 }
