@@ -120,6 +120,32 @@ fn sphere_light_over_plane() {
     }
 }
 
+/// Two spheres of different radiance (so they are chosen with different
+/// probabilities, by power) light the point between them: their
+/// irradiances add, each `π Le (r/D)² cos θ`. Every estimator divides a
+/// light's sample by the probability of having chosen it.
+#[test]
+fn two_sphere_lights_add_up() {
+    let (r, d, x) = (0.4f32, 1.2f32, 1.5f32);
+    let mut scene = plane_scene();
+    for (side, le) in [(-1.0f32, 5.0f32), (1.0, 1.5)] {
+        add_light(
+            &mut scene,
+            Shape::Sphere {
+                center: Vec3::new(side * x, d, 0.0),
+                radius: r,
+            },
+            le,
+        );
+    }
+    let dd = (x * x + d * d).sqrt();
+    let e = PI * (5.0 + 1.5) * (r / dd).powi(2) * (d / dd);
+    for kind in KINDS {
+        let got = radiance_at(&scene, Vec3::ZERO, Vec3::Y, kind, 8192);
+        check(&format!("two spheres {kind}"), got, RHO / PI * e, 0.015);
+    }
+}
+
 /// Disk of radius r facing down at height d, on its axis:
 /// `E = π Le r² / (r² + d²)`; viewed obliquely past the disk.
 #[test]
