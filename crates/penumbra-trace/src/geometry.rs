@@ -277,17 +277,24 @@ impl SceneGeometry {
     /// back faces of materials with `cull_back_faces` (glTF `doubleSided:
     /// false`) are passed through, as glTF's back-face culling hides them
     /// (at most [`MAX_CULLED_LAYERS`] of them; beyond, nothing is seen).
+    /// The hit's `t` is measured from the camera ray's origin, through
+    /// the faces passed.
     pub fn intersect_camera(&self, scene: &Scene, ray: &Ray) -> Option<SurfaceHit> {
         let mut r = *ray;
+        let mut travelled = 0.0;
         for _ in 0..=MAX_CULLED_LAYERS {
             let hit = self.intersect(scene, &r)?;
             let culled = hit.light.is_none()
                 && scene.materials[hit.material].cull_back_faces
                 && hit.ng.dot(r.direction) > 0.0;
             if !culled {
-                return Some(hit);
+                return Some(SurfaceHit {
+                    t: travelled + hit.t,
+                    ..hit
+                });
             }
             // On through the face: leave from its back side.
+            travelled += hit.t;
             let origin = crate::ray::offset_ray_origin(hit.p, hit.ng);
             r = Ray::segment(origin, r.direction, r.tmax - hit.t);
         }
