@@ -394,4 +394,69 @@ mod tests {
             }
         });
     }
+
+    /// Russian roulette keeps a path with probability max(β) · Πη², at
+    /// most 0.95 (by hand): β 0.3 inside glass (η² = 2.25) → 0.675.
+    #[test]
+    fn roulette_undoes_the_refraction_scaling() {
+        use super::path::rr_survival;
+        assert!((rr_survival(Rgb::new(0.1, 0.3, 0.2), 2.25) - 0.675).abs() < 1e-6);
+        assert!((rr_survival(Rgb::new(0.1, 0.3, 0.2), 1.0) - 0.3).abs() < 1e-6);
+        assert_eq!(rr_survival(Rgb::splat(0.5), 2.25), 0.95);
+    }
+
+    /// `scatter` through glass multiplies the η² product by η² = 2.25 on
+    /// the way in; roulette spares the first segments and then keeps a
+    /// path of throughput 10⁻³ about once in a thousand, dividing its
+    /// throughput by that probability.
+    #[test]
+    fn scatter_tracks_refraction_and_plays_roulette_late() {
+        use super::path::scatter;
+        use penumbra_shading::bsdf::Dielectric;
+        use penumbra_shading::sampling::Sampler;
+        for (material, glass) in [
+            (
+                Material {
+                    bsdf: Bsdf::Dielectric(Dielectric::glass()),
+                    ..Material::lambert("glass", Rgb::ONE)
+                },
+                true,
+            ),
+            (Material::lambert("white", Rgb::ONE), false),
+        ] {
+            let mut scene = Scene::default();
+            let m = scene.add_material(material);
+            add_floor(&mut scene, m);
+            with_context(&scene, |ctx| {
+                let s = ctx.shading(&floor_hit(ctx, 1.0), Vec3::Y, 0.0).unwrap();
+                let (mut refracted, mut late) = (0, 0);
+                let n = 4000;
+                for i in 0..n {
+                    let mut sampler = Sampler::new(1, 2, i, 7);
+                    let next = scatter(ctx, &s, &mut sampler, Rgb::ONE, 1.0, 1, RayCone::POINT)
+                        .expect("no roulette on the second segment");
+                    if next.ray.direction.y < 0.0 {
+                        assert!((next.eta_scale - 2.25).abs() < 1e-5, "{}", next.eta_scale);
+                        refracted += 1;
+                    } else {
+                        assert_eq!(next.eta_scale, 1.0);
+                    }
+                    let mut sampler = Sampler::new(1, 2, i, 7);
+                    let beta = Rgb::splat(1e-3);
+                    if let Some(next) = scatter(ctx, &s, &mut sampler, beta, 1.0, 9, RayCone::POINT)
+                    {
+                        late += 1;
+                        if !glass {
+                            // White Lambert: weight 1, then / q = 10⁻³.
+                            assert!((next.beta.x - 1.0).abs() < 1e-4, "{}", next.beta);
+                        }
+                    }
+                }
+                assert_eq!(refracted > n / 2, glass, "{refracted} of {n} refracted");
+                // q = 10⁻³ (up to 2.25 · 10⁻³ inside glass): a handful of
+                // 4000 survive.
+                assert!(late <= 30, "{late} of {n} survived roulette at depth 10");
+            });
+        }
+    }
 }

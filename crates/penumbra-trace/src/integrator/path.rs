@@ -29,7 +29,7 @@ const RR_START_DEPTH: u32 = 4;
 /// do the same), capped at 0.95. A path inside glass (β = 1/η² ≈ 0.44)
 /// is not ended more often than the same path outside it.
 #[inline]
-fn rr_survival(beta: Rgb, eta_scale: f32) -> f32 {
+pub(crate) fn rr_survival(beta: Rgb, eta_scale: f32) -> f32 {
     (beta.max_element() * eta_scale).min(0.95)
 }
 
