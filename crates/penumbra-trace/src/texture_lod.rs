@@ -238,18 +238,18 @@ impl TextureLevels {
     fn reads(&self, scene: &Scene, id: TextureId, uvs: [Vec2; 2], footprint: Footprint) -> Reads {
         let texture = &scene.textures[id];
         let uv = uvs[texture.uv_set.min(1)];
-        let level_zero = Reads {
+        let level_zero = || Reads {
             level: 0,
             taps: texture.taps(uv),
             next: None,
         };
         let (Some(area), Some((levels, texels_per_uv))) = (footprint.0, self.levels.get(id)) else {
-            return level_zero;
+            return level_zero();
         };
         // λ = ½ log2 of the texels the footprint covers.
         let lambda = 0.5 * (area[texture.uv_set.min(1)] * texels_per_uv).log2();
         if lambda.is_nan() || lambda <= 0.0 || levels.is_empty() {
-            return level_zero;
+            return level_zero();
         }
         let lambda = lambda.min(levels.len() as f32);
         let i = lambda.floor() as usize;

@@ -171,11 +171,9 @@ impl Distribution2D {
         if h == 0 {
             return 0.0;
         }
+        // (Rows exist only for a width > 0.) The cells of
+        // `pdf_continuous` along each axis.
         let w = self.width;
-        if w == 0 {
-            return 0.0;
-        }
-        // The cells of `pdf_continuous` along each axis.
         let row = ((uv.y.clamp(0.0, 1.0) * h as f32) as usize).min(h - 1);
         let col = ((uv.x.clamp(0.0, 1.0) * w as f32) as usize).min(w - 1);
         self.density[row * w + col]
