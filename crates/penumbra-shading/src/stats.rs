@@ -37,6 +37,24 @@ impl TestRng {
     }
 }
 
+/// Monte Carlo directional albedo in the first band: the mean of
+/// `weight.x` over `n` draws of `sample(u_lobe, u)` with uniforms from
+/// `rng` (a draw that returns no sample counts 0). For a BSDF sampled
+/// from direction ωo, `∫ f(ωo, ωi) |cos θi| dωi`.
+pub fn sampled_albedo(
+    n: usize,
+    rng: &mut TestRng,
+    mut sample: impl FnMut(f32, [f32; 2]) -> Option<crate::bsdf::BsdfSample>,
+) -> f64 {
+    let mut sum = 0.0f64;
+    for _ in 0..n {
+        if let Some(s) = sample(rng.next_f32(), rng.next_2d()) {
+            sum += s.weight.x as f64;
+        }
+    }
+    sum / n as f64
+}
+
 /// Outcome of a chi-square test.
 #[derive(Clone, Debug)]
 pub struct ChiSquare {

@@ -134,14 +134,9 @@ fn a_white_dielectric_reflects_everything() {
     for deg in [0.0f32, 60.0, 80.0] {
         let t = deg.to_radians();
         let wo = glam::Vec3::new(t.sin(), 0.0, t.cos());
-        let n = 1_000_000;
-        let mut sum = 0.0f64;
-        for _ in 0..n {
-            if let Some(s) = m.sample(wo, rng.next_f32(), rng.next_2d()) {
-                sum += s.weight.x as f64;
-            }
-        }
-        let albedo = sum / n as f64;
+        let albedo = penumbra_shading::stats::sampled_albedo(1_000_000, &mut rng, |u, u2| {
+            m.sample(wo, u, u2)
+        });
         assert!((albedo - 1.0).abs() < 5e-3, "θo {deg}°: albedo {albedo}");
     }
 }

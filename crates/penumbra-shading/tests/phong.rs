@@ -6,7 +6,7 @@ use glam::Vec3;
 use penumbra_shading::Rgb;
 use penumbra_shading::bsdf::{PhongBlinn, PhongVariant};
 use penumbra_shading::sampling::square_to_uniform_sphere;
-use penumbra_shading::stats::{SphereBins, TestRng, chi_square_sphere};
+use penumbra_shading::stats::{SphereBins, TestRng, chi_square_sphere, sampled_albedo};
 use std::f64::consts::{FRAC_PI_2, PI};
 
 fn dir(theta_deg: f32, phi: f32) -> Vec3 {
@@ -371,14 +371,7 @@ fn specular_only_sampling_white_furnace_matches_quadrature() {
         for (g, theta) in [(10.0, 20.0), (100.0, 70.0)] {
             let m = PhongBlinn::new(Rgb::ZERO, Rgb::splat(0.05), g, variant);
             let wo = dir(theta, 0.0);
-            let n = 200_000;
-            let mut sum = 0.0f64;
-            for _ in 0..n {
-                if let Some(s) = m.sample(wo, rng.next_f32(), rng.next_2d()) {
-                    sum += s.weight.x as f64;
-                }
-            }
-            let mc = sum / n as f64;
+            let mc = sampled_albedo(200_000, &mut rng, |u, u2| m.sample(wo, u, u2));
             let quad = directional_albedo(&m, theta, 512, 256);
             assert!(
                 (mc - quad).abs() < 0.01 * quad,

@@ -160,9 +160,20 @@ pub fn filtered_maps(m: &Material) -> [Option<TextureId>; 3] {
 /// The coarser levels of the scene's BSDF textures, and their lookups.
 #[derive(Debug, Default)]
 pub struct TextureLevels {
-    /// Per scene texture: levels 1.. (empty: never filtered) and
-    /// w h |det T|, the texels of its level 0 per square UV unit.
-    levels: Vec<(Vec<Texture>, f32)>,
+    /// Per scene texture.
+    levels: Vec<Levels>,
+}
+
+/// One scene texture's coarser levels and what its lookups need.
+#[derive(Debug)]
+struct Levels {
+    /// Levels 1.. (empty: never filtered).
+    coarser: Vec<Texture>,
+    /// w h |det T|, the texels of level 0 per square UV unit.
+    texels_per_uv: f32,
+    /// The first texture of the same [`Texture::layout`] and the same
+    /// levels: textures of one class read the same taps at one hit.
+    class: usize,
 }
 
 impl TextureLevels {
@@ -177,17 +188,23 @@ impl TextureLevels {
                 }
             }
         }
+        let keys: Vec<(TextureLayout, bool)> = scene
+            .textures
+            .iter()
+            .zip(&used)
+            .map(|(t, &used)| (t.layout(), used))
+            .collect();
         let levels = scene
             .textures
             .iter()
             .zip(used)
-            .map(|(t, used)| {
+            .enumerate()
+            .map(|(i, (t, used))| {
                 let det = t.uv_transform.matrix2.determinant().abs();
-                let texels_per_uv = t.width as f32 * t.height as f32 * det;
-                if used {
-                    (coarser_levels(t), texels_per_uv)
-                } else {
-                    (Vec::new(), texels_per_uv)
+                Levels {
+                    coarser: if used { coarser_levels(t) } else { Vec::new() },
+                    texels_per_uv: t.width as f32 * t.height as f32 * det,
+                    class: keys.iter().position(|k| *k == keys[i]).unwrap_or(i),
                 }
             })
             .collect();
@@ -211,7 +228,8 @@ impl TextureLevels {
     /// for an absent map): each map whose layout (size, wrap, transform,
     /// UV set) is its predecessor's reuses that one's level and texel
     /// positions, so a material whose maps share a layout pays for one
-    /// level choice and one set of taps, not one per map.
+    /// level choice and one set of taps, not one per map (the layouts
+    /// are compared once, when the levels are built).
     pub fn lookup_maps<const N: usize>(
         &self,
         scene: &Scene,
@@ -219,16 +237,15 @@ impl TextureLevels {
         uvs: [Vec2; 2],
         footprint: Footprint,
     ) -> [Option<Rgb>; N] {
-        let mut previous: Option<(TextureLayout, usize, Reads)> = None;
+        let mut previous: Option<(usize, Reads)> = None;
         ids.map(|id| {
             let id = id?;
-            let layout = scene.textures[id].layout();
-            let count = self.levels.get(id).map_or(0, |l| l.0.len());
-            let reads = match previous {
-                Some((l, c, reads)) if l == layout && c == count => reads,
+            let class = self.levels.get(id).map(|l| l.class);
+            let reads = match (previous, class) {
+                (Some((p, reads)), Some(c)) if p == c => reads,
                 _ => self.reads(scene, id, uvs, footprint),
             };
-            previous = Some((layout, count, reads));
+            previous = class.map(|c| (c, reads));
             Some(self.read(scene, id, reads))
         })
     }
@@ -243,7 +260,15 @@ impl TextureLevels {
             taps: texture.taps(uv),
             next: None,
         };
-        let (Some(area), Some((levels, texels_per_uv))) = (footprint.0, self.levels.get(id)) else {
+        let (
+            Some(area),
+            Some(Levels {
+                coarser: levels,
+                texels_per_uv,
+                ..
+            }),
+        ) = (footprint.0, self.levels.get(id))
+        else {
             return level_zero();
         };
         // λ = ½ log2 of the texels the footprint covers.
@@ -274,7 +299,7 @@ impl TextureLevels {
     fn read(&self, scene: &Scene, id: TextureId, reads: Reads) -> Rgb {
         let level = |l: usize| match l {
             0 => &scene.textures[id],
-            _ => &self.levels[id].0[l - 1],
+            _ => &self.levels[id].coarser[l - 1],
         };
         let Some(taps) = reads.taps else {
             return Rgb::ONE;

@@ -11,7 +11,7 @@ pub use path::RadianceSink;
 use crate::geometry::{SceneGeometry, SurfaceHit};
 use crate::lights::LightSampler;
 use crate::ray::{Ray, offset_ray_origin};
-use crate::texture_lod::{Footprint, RayCone, filtered_maps, filtered_textures};
+use crate::texture_lod::{Footprint, RayCone, filtered_maps};
 use glam::Vec3;
 use penumbra_scene::{IntegratorKind, RenderSettings, Scene};
 use penumbra_shading::bsdf::Bsdf;
@@ -80,7 +80,8 @@ impl TraceContext<'_> {
         let (mut ng, mut ns) = (hit.ng, hit.ns);
         let mut bsdf = material.bsdf;
         // (A cone of width 0, as bakes start with, gives no footprint.)
-        let footprint = if filtered_textures(material).next().is_some() {
+        let maps = filtered_maps(material);
+        let footprint = if maps.iter().any(Option::is_some) {
             Footprint::new(
                 cone_width,
                 wo.dot(ng),
@@ -91,12 +92,10 @@ impl TraceContext<'_> {
         };
         // The three maps at once: where they share a layout, they share
         // the level choice and the texel positions.
-        let [albedo, metallic_roughness, normal] = self.geometry.texture_levels.lookup_maps(
-            self.scene,
-            filtered_maps(material),
-            hit.uvs,
-            footprint,
-        );
+        let [albedo, metallic_roughness, normal] = self
+            .geometry
+            .texture_levels
+            .lookup_maps(self.scene, maps, hit.uvs, footprint);
         if let Some(texel) = albedo {
             bsdf = bsdf.tinted(texel);
         }
