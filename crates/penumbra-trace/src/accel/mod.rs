@@ -428,6 +428,204 @@ mod tests {
         assert!(err.contains("outside"), "{err}");
     }
 
+    /// Every slot of the tree as (node, slot, code), and the longest
+    /// root-to-leaf path in nodes, found by a walk of the test's own.
+    fn slots_and_depth(accel: &Accel) -> (Vec<(usize, usize, u32)>, usize) {
+        let (mut slots, mut deepest) = (Vec::new(), 0);
+        let mut todo = vec![(0usize, 1usize)];
+        while let Some((n, depth)) = todo.pop() {
+            deepest = deepest.max(depth);
+            for s in 0..wide::WIDTH {
+                let node = &accel.wide.nodes[n];
+                if node.bounds[0][s] > node.bounds[1][s] {
+                    continue;
+                }
+                slots.push((n, s, node.child[s]));
+                if node.child[s] & LEAF_BIT == 0 {
+                    todo.push((node.child[s] as usize, depth + 1));
+                }
+            }
+        }
+        (slots, deepest)
+    }
+
+    /// `validate` accepts a sound tree, also one whose triangles touch
+    /// their boxes and whose recorded depth is exact, and names each kind
+    /// of broken tree.
+    #[test]
+    fn validate_names_each_kind_of_broken_tree() {
+        assert_eq!(Accel::build(&[], BuildQuality::Fast).validate(), Ok(()));
+        let (tris, _) = random_soup(500, 4);
+        let sound = Accel::build(&tris, BuildQuality::Medium);
+        let (slots, deepest) = slots_and_depth(&sound);
+        assert!(deepest >= 3, "the test needs a deeper tree: {deepest}");
+        let is_leaf = |&&(_, _, code): &&(usize, usize, u32)| code & LEAF_BIT != 0;
+        let leaves: Vec<_> = slots.iter().filter(is_leaf).copied().collect();
+        let inner: Vec<_> = slots.iter().filter(|s| !is_leaf(s)).copied().collect();
+        let count = |code: u32| leaf_range(code).len();
+        assert!(
+            leaves.iter().any(|l| count(l.2) == LEAF_MAX as usize),
+            "the test needs a full leaf"
+        );
+        let expect = |accel: &Accel, what: &str| {
+            let err = accel.validate().expect_err(what);
+            assert!(err.contains(what), "expected “{what}”, got “{err}”");
+        };
+        let broken = |change: &dyn Fn(&mut Accel)| {
+            let mut accel = Accel::build(&tris, BuildQuality::Medium);
+            change(&mut accel);
+            accel
+        };
+
+        // The recorded depth is the longest path; one less is too shallow.
+        assert_eq!(sound.wide.depth, deepest);
+        sound.validate().unwrap();
+        expect(
+            &broken(&|a| a.wide.depth -= 1),
+            "deeper than the recorded depth",
+        );
+
+        // Closed boxes: a vertex moved exactly onto its leaf box's faces
+        // still lies inside; moved just past one, it does not.
+        let (n, s, code) = leaves[0];
+        let i = leaf_range(code).start;
+        let (lo, hi) = sound.wide.nodes[n].slot_box(s);
+        let on_faces = broken(&|a| {
+            a.ordered[i][0] = Vec3A::from(lo);
+            a.ordered[i][1] = Vec3A::from(hi);
+        });
+        on_faces.validate().unwrap();
+        for axis in 0..3 {
+            for (corner, past) in [(lo, lo[axis].next_down()), (hi, hi[axis].next_up())] {
+                let mut out = corner;
+                out[axis] = past;
+                let a = broken(&|a| a.ordered[i][2] = Vec3A::from(out));
+                expect(&a, "lies outside its leaf's box");
+            }
+        }
+
+        expect(
+            &broken(&|a| a.primitive_indices[0] = tris.len() as u32),
+            "primitive index 500 out of range",
+        );
+        expect(
+            &broken(&|a| a.primitive_indices[1] = a.primitive_indices[0]),
+            "is not in the BVH",
+        );
+        // A leaf slot emptied: its triangles are in no leaf.
+        let (n, s, code) = *leaves
+            .iter()
+            .find(|l| leaves.iter().any(|m| m.0 == l.0 && m.1 != l.1))
+            .expect("a node with two leaves");
+        expect(
+            &broken(&|a| a.wide.nodes[n].bounds[0][s] = f32::INFINITY),
+            "is in no leaf",
+        );
+        // Leaf codes with no triangles, too many, or past the end.
+        let empty = code & !(7 << wide::COUNT_SHIFT);
+        let five = empty | (5 << wide::COUNT_SHIFT);
+        let past_end = wide::leaf_code(tris.len() as u32 - 1, 2);
+        for bad in [empty, five, past_end] {
+            expect(&broken(&|a| a.wide.nodes[n].child[s] = bad), "bad leaf");
+        }
+        // One leaf copied over another of the same node (box and code).
+        let copy_slot = |a: &mut Accel, n: usize, from: usize, to: usize| {
+            for plane in 0..6 {
+                a.wide.nodes[n].bounds[plane][to] = a.wide.nodes[n].bounds[plane][from];
+            }
+            a.wide.nodes[n].child[to] = a.wide.nodes[n].child[from];
+        };
+        let (_, s2, _) = *leaves.iter().find(|l| l.0 == n && l.1 != s).unwrap();
+        expect(&broken(&|a| copy_slot(a, n, s, s2)), "is in two leaves");
+        // An inner child pointing outside the node list, or reached twice.
+        let (n, s, _) = *inner
+            .iter()
+            .find(|c| inner.iter().any(|d| d.0 == c.0 && d.1 != c.1))
+            .expect("a node with two inner children");
+        expect(
+            &broken(&|a| a.wide.nodes[n].child[s] = a.wide.nodes.len() as u32),
+            "node index",
+        );
+        let (_, s3, _) = *inner.iter().find(|c| c.0 == n && c.1 != s).unwrap();
+        expect(&broken(&|a| copy_slot(a, n, s, s3)), "is reached twice");
+        // A child box grown just past its parent's, on either side.
+        let (n, s, child) = inner[0];
+        let (lo, hi) = sound.wide.nodes[n].slot_box(s);
+        let k = (0..wide::WIDTH)
+            .find(|&k| sound.wide.nodes[child as usize].used(k))
+            .unwrap();
+        for axis in 0..3 {
+            let c = child as usize;
+            let low = broken(&|a| a.wide.nodes[c].bounds[2 * axis][k] = lo[axis].next_down());
+            expect(&low, "box outside its parent's");
+            let high = broken(&|a| a.wide.nodes[c].bounds[2 * axis + 1][k] = hi[axis].next_up());
+            expect(&high, "box outside its parent's");
+        }
+    }
+
+    /// The settings read back what was set; a kernel this CPU cannot run
+    /// is refused and leaves the kernel as it was.
+    #[test]
+    fn settings_read_back() {
+        let (tris, _) = random_soup(300, 5);
+        let mut accel = Accel::build(&tris, BuildQuality::Fast);
+        assert_eq!(accel.triangle_count(), 300);
+        assert_eq!(
+            Accel::build(&tris[..7], BuildQuality::Fast).triangle_count(),
+            7
+        );
+        for on in [true, false, true] {
+            accel.set_prefetch(on);
+            assert_eq!(accel.prefetch(), on);
+        }
+        for kernel in [Kernel::Avx2, Kernel::Portable, Kernel::Avx2] {
+            let before = accel.kernel();
+            match accel.set_kernel(kernel) {
+                Ok(()) => {
+                    assert!(kernel.is_supported());
+                    assert_eq!(accel.kernel(), kernel);
+                }
+                Err(e) => {
+                    assert!(!kernel.is_supported() && e.contains("cannot run"), "{e}");
+                    assert_eq!(accel.kernel(), before);
+                }
+            }
+        }
+        assert_eq!(accel.kernel(), Kernel::best());
+    }
+
+    /// Prefetching turns on when nodes and triangles together pass 2 MiB:
+    /// 40 000 triangles take 1.92 MB (48 B each) and their nodes the rest.
+    #[test]
+    fn prefetch_counts_nodes_and_triangles() {
+        let tris = |n: usize| random_soup(n, 6).0;
+        let accel = Accel::build(&tris(40_000), BuildQuality::Fast);
+        let triangle_bytes = 40_000 * size_of::<[Vec3A; 3]>();
+        let node_bytes = accel.wide.nodes.len() * size_of::<wide::Node8>();
+        assert!(triangle_bytes < 2 << 20 && triangle_bytes + node_bytes > 2 << 20);
+        assert!(accel.prefetch());
+        assert!(!Accel::build(&tris(10_000), BuildQuality::Fast).prefetch());
+    }
+
+    /// Triangles collapsed onto the origin (degenerate glTF triangles) get
+    /// boxes that hold them: a zero coordinate is padded by a positive
+    /// amount too.
+    #[test]
+    fn triangles_at_the_origin_are_boxed() {
+        Accel::build(&[[Vec3::ZERO; 3]], BuildQuality::Medium)
+            .validate()
+            .unwrap();
+        let (mut tris, rays) = random_soup(200, 7);
+        tris.extend([[Vec3::ZERO; 3]; 3]);
+        tris.push([Vec3::ZERO, Vec3::X * 1e-30, Vec3::Y * 1e-30]);
+        let accel = Accel::build(&tris, BuildQuality::Medium);
+        accel.validate().unwrap();
+        for ray in &rays {
+            let a = accel.intersect(ray).map(|h| (h.triangle, h.t));
+            assert_eq!(a, brute_force(&tris, ray));
+        }
+    }
+
     #[test]
     fn empty_misses() {
         let a = Accel::build(&[], BuildQuality::Fast);
