@@ -66,6 +66,42 @@ mod tests {
     use super::*;
 
     #[test]
+    fn rays_and_points_along_them() {
+        let (o, d) = (Vec3::new(1.0, -2.0, 3.0), Vec3::new(0.0, 0.6, 0.8));
+        let r = Ray::new(o, d);
+        assert_eq!((r.origin, r.direction, r.tmax), (o, d, f32::INFINITY));
+        assert_eq!(r.at(2.5), Vec3::new(1.0, -0.5, 5.0));
+        let s = Ray::segment(o, d, 4.0);
+        assert_eq!((s.origin, s.direction, s.tmax), (o, d, 4.0));
+    }
+
+    /// Hand-computed offsets. Away from 0 a coordinate moves by 256·n ulps:
+    /// 1 + 256·2⁻²³ = 1 + 2⁻¹⁵; −2 moves up by 128 ulps of the binade
+    /// below it (2⁻²³): −2 + 2⁻¹⁶; 1/32 (the first value that moves by
+    /// ulps) moves down by 64 ulps of 2⁻²⁹: 1/32 − 2⁻²³; −8 by 0 ulps
+    /// (256 · 0.001 truncates to 0). Near 0 it moves by n/65536:
+    /// 0.01 − 4·2⁻¹⁶, −0.03 + 2⁻¹⁶.
+    #[test]
+    fn offsets_by_hand() {
+        let q = offset_ray_origin(Vec3::new(1.0, -2.0, 0.01), Vec3::new(1.0, 0.5, -4.0));
+        let exp2 = |e: i32| 2f32.powi(e);
+        assert_eq!(
+            q,
+            Vec3::new(1.0 + exp2(-15), -2.0 + exp2(-16), 0.01 - exp2(-14))
+        );
+        let q = offset_ray_origin(
+            Vec3::new(1.0 / 32.0, -8.0, -0.03),
+            Vec3::new(-0.25, 1e-3, 1.0),
+        );
+        let expected = Vec3::new(1.0 / 32.0 - exp2(-23), -8.0, -0.03 + exp2(-16));
+        assert_eq!(q, expected);
+        // Just below 1/32 the absolute offset applies: 2⁻¹⁶ · (−0.25).
+        let below = (1.0f32 / 32.0).next_down();
+        let q = offset_ray_origin(Vec3::splat(below), Vec3::splat(-0.25));
+        assert_eq!(q, Vec3::splat(below - exp2(-18)));
+    }
+
+    #[test]
     fn offset_moves_to_the_normal_side() {
         for p in [
             Vec3::new(0.0, 0.0, 0.0),

@@ -122,6 +122,54 @@ fn mask_cuts_where_alpha_is_below_the_cutoff() {
     }
 }
 
+/// The coverage is read at the hit's UV, interpolated from all three
+/// corners: the quad's UVs mirrored (u = (1 − x)/2), so no corner of
+/// either triangle has UV (0, 0), and the opaque half is now x < 0.
+#[test]
+fn mask_reads_the_uv_interpolated_at_the_hit() {
+    let mut scene = Scene::default();
+    scene.textures.push(Texture {
+        name: "alpha".into(),
+        width: 2,
+        height: 1,
+        texels: vec![Rgb::splat(0.2), Rgb::splat(0.8)].into(),
+        wrap: [Wrap::ClampToEdge; 2],
+        uv_transform: glam::Affine2::IDENTITY,
+        uv_set: 0,
+    });
+    covered_quad(
+        &mut scene,
+        AlphaCoverage {
+            mode: AlphaMode::Mask { cutoff: 0.5 },
+            factor: 1.0,
+            texture: Some(0),
+        },
+    );
+    scene.meshes[0].uv0 = Some(vec![
+        Vec2::new(1.0, 0.0),
+        Vec2::new(0.0, 0.0),
+        Vec2::new(0.0, 1.0),
+        Vec2::new(1.0, 1.0),
+    ]);
+    let geometry = SceneGeometry::build(&scene, BuildQuality::Medium);
+    let mut checked = 0;
+    for ray in rays_down() {
+        let x = ray.origin.x;
+        if x.abs() < 0.2 {
+            continue;
+        }
+        let expected = x < 0.0;
+        assert_eq!(
+            geometry.intersect(&scene, &ray).is_some(),
+            expected,
+            "x = {x}"
+        );
+        assert_eq!(geometry.occluded(&ray), expected, "x = {x}");
+        checked += 1;
+    }
+    assert!(checked > 7000);
+}
+
 /// An emitter of radiance 1 behind a black BLEND quad of α = 0.25, seen
 /// head-on: every pixel averages (1 − α) · 1 = 0.75.
 #[test]
