@@ -352,8 +352,15 @@ mod tests {
         assert_eq!(ycx.len(), 21);
         assert_eq!(cz.len(), 21);
         assert_eq!(feature_filter(67.0).len(), 19);
-        let sum: f32 = ycx.iter().map(|w| w[0]).sum();
-        assert!((sum - 1.0).abs() < 1e-5);
+        // Y and Cx filters sum to 1 (a sign flip of one would cancel over
+        // the two separable passes in ldr_flip, so only this sees it); the
+        // 2-D Cz filter g₁⊗g₁ + g₂⊗g₂ sums to (Σg₁)² + (Σg₂)² = 1.
+        for channel in 0..2 {
+            let sum: f32 = ycx.iter().map(|w| w[channel]).sum();
+            assert!((sum - 1.0).abs() < 1e-5, "channel {channel}: {sum}");
+        }
+        let (s1, s2): (f32, f32) = (cz.iter().map(|w| w[0]).sum(), cz.iter().map(|w| w[1]).sum());
+        assert!((s1 * s1 + s2 * s2 - 1.0).abs() < 1e-5);
     }
 
     #[test]
