@@ -363,6 +363,41 @@ mod tests {
         assert!((s1 * s1 + s2 * s2 - 1.0).abs() < 1e-5);
     }
 
+    /// The feature filter's three kernels as FLIP defines them, at the
+    /// default 67 ppd (σ = ½ · 0.082 · 67 = 2.747, radius 9): the Gaussian
+    /// sums to 1; its first derivative −x·g is positive left of the centre,
+    /// 0 at it and negative right of it, each lobe summing to ±1; the
+    /// second derivative (x²/σ² − 1)·g is negative inside |x| < σ and
+    /// positive outside, its lobes summing to ±1.
+    #[test]
+    fn feature_kernels_by_hand() {
+        let f = feature_filter(67.0);
+        let sigma = 0.5 * 0.082 * 67.0;
+        let sum = |k: usize, keep: fn(f32) -> bool| -> f32 {
+            f.iter().map(|w| w[k]).filter(|&v| keep(v)).sum()
+        };
+        assert!((sum(0, |_| true) - 1.0).abs() < 1e-6);
+        for k in [1, 2] {
+            assert!((sum(k, |v| v > 0.0) - 1.0).abs() < 1e-6, "kernel {k}");
+            assert!((sum(k, |v| v < 0.0) + 1.0).abs() < 1e-6, "kernel {k}");
+        }
+        for (i, w) in f.iter().enumerate() {
+            let x = i as f32 - 9.0;
+            assert!(w[0] > 0.0);
+            if x != 0.0 {
+                assert_eq!(w[1].signum(), -x.signum(), "x = {x}");
+            }
+            assert_eq!(w[2] > 0.0, x.abs() > sigma, "x = {x}: {}", w[2]);
+        }
+        assert_eq!(f[9][1], 0.0);
+        // Symmetry: g and ddg even, dg odd.
+        for d in 1..=9 {
+            let (l, r) = (f[9 - d], f[9 + d]);
+            assert!((l[0] - r[0]).abs() < 1e-7 && (l[1] + r[1]).abs() < 1e-7);
+            assert!((l[2] - r[2]).abs() < 1e-7);
+        }
+    }
+
     #[test]
     fn identical_is_zero() {
         let img: Vec<Vec3> = (0..64).map(|i| Vec3::splat(i as f32 / 63.0)).collect();

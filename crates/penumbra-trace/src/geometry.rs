@@ -280,6 +280,8 @@ impl SceneGeometry {
     /// The hit's `t` is measured from the camera ray's origin, through
     /// the faces passed.
     pub fn intersect_camera(&self, scene: &Scene, ray: &Ray) -> Option<SurfaceHit> {
+        // The parameter t of `ray` at a point on it.
+        let t_at = |q: Vec3| (q - ray.origin).dot(ray.direction) / ray.direction.length_squared();
         let mut r = *ray;
         let mut travelled = 0.0;
         for _ in 0..=MAX_CULLED_LAYERS {
@@ -293,10 +295,11 @@ impl SceneGeometry {
                     ..hit
                 });
             }
-            // On through the face: leave from its back side.
-            travelled += hit.t;
+            // On through the face: leave from its back side, a little past
+            // the hit (the offset counts in the distance travelled).
             let origin = crate::ray::offset_ray_origin(hit.p, hit.ng);
-            r = Ray::segment(origin, r.direction, r.tmax - hit.t);
+            travelled = t_at(origin);
+            r = Ray::segment(origin, r.direction, ray.tmax - travelled);
         }
         None
     }

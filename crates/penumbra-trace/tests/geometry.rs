@@ -293,3 +293,45 @@ fn area_lights_against_triangles() {
     assert!(g.occluded(&past(10.1)));
     assert_eq!(g.intersect(&s, &past(10.1)).map(|h| h.triangle), Some(4));
 }
+
+/// A camera ray passes through culled back faces within its own length:
+/// after a face at t = 2 it has 3 of its 5 left, so a face at 4 is seen
+/// (at t = 4 from the camera) and one at 6 is not.
+#[test]
+fn camera_segments_keep_their_length_through_culled_faces() {
+    for (far, seen) in [(4.0, true), (6.0, false)] {
+        let mut s = Scene::default();
+        let culled = s.add_material(Material {
+            cull_back_faces: true,
+            ..Material::lambert("one-sided", Rgb::splat(0.5))
+        });
+        let plain = s.add_material(Material::lambert("plain", Rgb::splat(0.5)));
+        // The ray goes −z from z = 10: the first quad faces −z (its back
+        // is met, and culled), the second +z.
+        let back = common::quad(
+            Vec3::new(-1.0, -1.0, 8.0),
+            Vec3::Y * 2.0,
+            Vec3::X * 2.0,
+            culled,
+        );
+        s.add_mesh(back, Mat4::IDENTITY);
+        let front = common::quad(
+            Vec3::new(-1.0, -1.0, 10.0 - far),
+            Vec3::X * 2.0,
+            Vec3::Y * 2.0,
+            plain,
+        );
+        s.add_mesh(front, Mat4::IDENTITY);
+        let g = SceneGeometry::build(&s, BuildQuality::Fast);
+        let ray = Ray::segment(Vec3::new(0.1, 0.2, 10.0), -Vec3::Z, 5.0);
+        let hit = g.intersect_camera(&s, &ray);
+        assert_eq!(hit.is_some(), seen, "far face at t = {far}");
+        if let Some(h) = hit {
+            assert_eq!(h.material, plain);
+            assert!((h.t - far).abs() < 1e-5, "t = {}", h.t);
+        }
+        // Without the culling the first face is what the camera sees.
+        let h = g.intersect(&s, &ray).expect("the one-sided face");
+        assert!((h.t - 2.0).abs() < 1e-5);
+    }
+}

@@ -563,6 +563,33 @@ mod tests {
         }
     }
 
+    /// Leaf boxes are their triangles' bounds padded by a few ulps (4·10⁻⁶
+    /// of the largest coordinate, ≈ 32 ulps), no more: looser boxes would
+    /// send rays into leaves they miss.
+    #[test]
+    fn leaf_boxes_are_padded_by_ulps() {
+        let (tris, _) = random_soup(500, 8);
+        let accel = Accel::build(&tris, BuildQuality::Medium);
+        let (slots, _) = slots_and_depth(&accel);
+        for (n, s, code) in slots.into_iter().filter(|s| s.2 & LEAF_BIT != 0) {
+            let (lo, hi) = accel.wide.nodes[n].slot_box(s);
+            let vertices = || accel.ordered[leaf_range(code)].iter().flatten();
+            let tlo = vertices().fold(Vec3A::INFINITY, |a, &v| a.min(v));
+            let thi = vertices().fold(Vec3A::NEG_INFINITY, |a, &v| a.max(v));
+            let slack = tlo.abs().max(thi.abs()).max_element() * 8e-6;
+            for a in 0..3 {
+                assert!(
+                    lo[a] < tlo[a] && lo[a] > tlo[a] - slack,
+                    "leaf {n}/{s} axis {a}"
+                );
+                assert!(
+                    hi[a] > thi[a] && hi[a] < thi[a] + slack,
+                    "leaf {n}/{s} axis {a}"
+                );
+            }
+        }
+    }
+
     /// The settings read back what was set; a kernel this CPU cannot run
     /// is refused and leaves the kernel as it was.
     #[test]
