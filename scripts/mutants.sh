@@ -47,7 +47,7 @@ case "${1:-}" in
     s=crates/penumbra-shading/src t=crates/penumbra-trace/src i=crates/penumbra-image/src
     mapfile -t a < <(files penumbra-shading $s/bsdf $s/bsdf.rs $s/light $s/light.rs $s/sampling $s/sampling.rs $s/radiometry.rs $s/color.rs)
     run shading "${a[@]}" || true
-    mapfile -t a < <(files penumbra-trace $t/integrator $t/lights.rs $t/accel)
+    mapfile -t a < <(files penumbra-trace $t/integrator $t/lights.rs $t/accel $t/geometry.rs $t/ray.rs $t/texture_lod.rs)
     run trace "${a[@]}" || true
     mapfile -t a < <(files penumbra-image $i/metrics.rs $i/film.rs $i/tonemap.rs $i/flip.rs $i/flip_ldr.rs)
     run image "${a[@]}" || true
