@@ -70,10 +70,10 @@ fn blend_is_met_with_probability_alpha() {
     }
 }
 
-#[test]
-fn mask_cuts_where_alpha_is_below_the_cutoff() {
-    // α = 0.2 on the left half of the texture, 0.8 on the right (two
-    // texels, clamped: bilinear lookups blend them only near u = ½).
+/// A scene holding one texture: α = 0.2 on the left half, 0.8 on the
+/// right (two texels, clamped: bilinear lookups blend them only near
+/// u = ½).
+fn scene_with_alpha_halves() -> Scene {
     let mut scene = Scene::default();
     scene.textures.push(Texture {
         name: "alpha".into(),
@@ -84,6 +84,12 @@ fn mask_cuts_where_alpha_is_below_the_cutoff() {
         uv_transform: glam::Affine2::IDENTITY,
         uv_set: 0,
     });
+    scene
+}
+
+#[test]
+fn mask_cuts_where_alpha_is_below_the_cutoff() {
+    let scene = scene_with_alpha_halves();
     for (cutoff, factor, left, right) in [
         (0.5, 1.0, false, true),
         (0.1, 1.0, true, true),
@@ -127,16 +133,7 @@ fn mask_cuts_where_alpha_is_below_the_cutoff() {
 /// either triangle has UV (0, 0), and the opaque half is now x < 0.
 #[test]
 fn mask_reads_the_uv_interpolated_at_the_hit() {
-    let mut scene = Scene::default();
-    scene.textures.push(Texture {
-        name: "alpha".into(),
-        width: 2,
-        height: 1,
-        texels: vec![Rgb::splat(0.2), Rgb::splat(0.8)].into(),
-        wrap: [Wrap::ClampToEdge; 2],
-        uv_transform: glam::Affine2::IDENTITY,
-        uv_set: 0,
-    });
+    let mut scene = scene_with_alpha_halves();
     covered_quad(
         &mut scene,
         AlphaCoverage {
