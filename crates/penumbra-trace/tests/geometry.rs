@@ -119,7 +119,7 @@ fn a_hit_reports_its_surface() {
     assert!((h.t - 10.0).abs() < 1e-5 && (h.b1 - B1).abs() < 1e-6 && (h.b2 - B2).abs() < 1e-6);
     assert!(close(h.p, Vec3::new(0.5, 1.5, 0.0)), "{}", h.p);
     assert_eq!(h.ng, Vec3::Z);
-    // ½·(0,0,1)·... : (1/4)(0,0,1) + (1/4)(0,0,1) + (1/2)(1,0,1) = (½, 0, 1).
+    // (1/4)(0,0,1) + (1/4)(0,0,1) + (1/2)(1,0,1) = (½, 0, 1).
     assert!(
         close(h.ns, Vec3::new(0.5, 0.0, 1.0).normalize()),
         "{}",
