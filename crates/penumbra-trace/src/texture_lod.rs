@@ -141,14 +141,8 @@ impl Footprint {
     }
 }
 
-/// The textures of `m` that are filtered: those that shape its BSDF
-/// (base colour, metallic–roughness, normal map), in [`filtered_maps`]'s
-/// order.
-pub fn filtered_textures(m: &Material) -> impl Iterator<Item = TextureId> {
-    filtered_maps(m).into_iter().flatten()
-}
-
-/// `m`'s base colour, metallic–roughness and normal map textures.
+/// `m`'s base colour, metallic–roughness and normal map textures: the
+/// textures that shape its BSDF, which are the ones filtered.
 pub fn filtered_maps(m: &Material) -> [Option<TextureId>; 3] {
     [
         m.albedo_texture,
@@ -182,7 +176,7 @@ impl TextureLevels {
     pub fn new(scene: &Scene) -> Self {
         let mut used = vec![false; scene.textures.len()];
         for m in &scene.materials {
-            for t in filtered_textures(m) {
+            for t in filtered_maps(m).into_iter().flatten() {
                 if let Some(u) = used.get_mut(t) {
                     *u = true;
                 }

@@ -11,9 +11,9 @@ mod common;
 
 use common::*;
 use glam::{Vec2, Vec3};
-use penumbra_scene::{Camera, IntegratorKind, Projection, RenderSettings, Scene, SceneAreaLight};
+use penumbra_scene::{Camera, IntegratorKind, Projection, RenderSettings, Scene};
 use penumbra_shading::Rgb;
-use penumbra_shading::light::{AreaLight, EnvironmentMap, Shape};
+use penumbra_shading::light::{EnvironmentMap, Shape};
 use penumbra_trace::accel::BuildQuality;
 use penumbra_trace::geometry::SceneGeometry;
 use penumbra_trace::ray::Ray;
@@ -39,14 +39,7 @@ fn plane_scene() -> Scene {
 }
 
 fn add_light(scene: &mut Scene, shape: Shape, le: f32) {
-    scene.area_lights.push(SceneAreaLight {
-        name: "l".into(),
-        light: AreaLight {
-            shape,
-            radiance: Rgb::splat(le),
-            two_sided: false,
-        },
-    });
+    scene.area_lights.push(area_light("l", shape, le));
 }
 
 /// Radiance at `p` on the plane seen from direction `view` (towards the

@@ -11,7 +11,7 @@ mod common;
 use glam::{Mat4, Vec2, Vec3, Vec4};
 use penumbra_scene::{Instance, Material, Mesh, Scene, SceneAreaLight};
 use penumbra_shading::Rgb;
-use penumbra_shading::light::{AreaLight, Shape};
+use penumbra_shading::light::Shape;
 use penumbra_trace::accel::BuildQuality;
 use penumbra_trace::geometry::SceneGeometry;
 use penumbra_trace::ray::Ray;
@@ -249,14 +249,7 @@ fn tangents_in_world_space() {
 }
 
 fn sphere_light(center: Vec3, radius: f32) -> SceneAreaLight {
-    SceneAreaLight {
-        name: "sphere".into(),
-        light: AreaLight {
-            shape: Shape::Sphere { center, radius },
-            radiance: Rgb::ONE,
-            two_sided: false,
-        },
-    }
+    common::area_light("sphere", Shape::Sphere { center, radius }, 1.0)
 }
 
 /// Analytic area lights and triangles: the nearest wins, whichever is

@@ -8,9 +8,9 @@ mod common;
 use common::*;
 use glam::{Affine2, Vec2, Vec3};
 use penumbra_scene::texture::Wrap;
-use penumbra_scene::{Material, Mesh, Scene, SceneAreaLight, SceneLight, Texture};
+use penumbra_scene::{Material, Mesh, Scene, SceneLight, Texture};
 use penumbra_shading::Rgb;
-use penumbra_shading::light::{AreaLight, Light, PointLight, Shape};
+use penumbra_shading::light::{Light, PointLight, Shape};
 use penumbra_trace::accel::BuildQuality;
 use penumbra_trace::geometry::SceneGeometry;
 use penumbra_trace::lights::{Emitter, LightSampler, LightSource};
@@ -27,15 +27,6 @@ fn sampler(scene: &Scene) -> (SceneGeometry, LightSampler) {
     (geometry, lights)
 }
 
-/// The geometry triangles of scene instance `instance`, in mesh order.
-fn triangles_of(geometry: &SceneGeometry, instance: usize) -> Vec<u32> {
-    let mut found: Vec<u32> = (0..geometry.triangles.len() as u32)
-        .filter(|&t| geometry.triangle_source(t).0 == instance)
-        .collect();
-    found.sort_by_key(|&t| geometry.triangle_source(t).1);
-    found
-}
-
 #[test]
 fn every_light_that_emits_is_a_source_once() {
     let mut scene = Scene::default();
@@ -50,17 +41,11 @@ fn every_light_that_emits_is_a_source_once() {
         });
     }
     for (name, le) in [("bright", 1.0), ("black", 0.0), ("sun", 3.0)] {
-        scene.area_lights.push(SceneAreaLight {
-            name: name.into(),
-            light: AreaLight {
-                shape: Shape::Sphere {
-                    center: Vec3::new(0.0, 5.0, 0.0),
-                    radius: 0.5,
-                },
-                radiance: Rgb::splat(le),
-                two_sided: false,
-            },
-        });
+        let sphere = Shape::Sphere {
+            center: Vec3::new(0.0, 5.0, 0.0),
+            radius: 0.5,
+        };
+        scene.area_lights.push(area_light(name, sphere, le));
     }
     scene.background = Rgb::splat(0.1);
     let (geometry, lights) = sampler(&scene);
@@ -78,10 +63,10 @@ fn every_light_that_emits_is_a_source_once() {
         ]
     );
     // Hits name their light; the floor's triangles are no light.
-    for t in triangles_of(&geometry, 0) {
+    for t in geometry.instance_triangles(0) {
         assert_eq!(lights.source(&geometry, Emitter::Triangle(t)), None);
     }
-    let glowing = triangles_of(&geometry, 1);
+    let glowing = geometry.instance_triangles(1);
     assert_eq!(glowing.len(), 2);
     for t in glowing {
         assert_eq!(
@@ -211,7 +196,7 @@ fn textured_emitters_are_chosen_by_their_mean_emission() {
     let total: f32 = means.iter().sum();
     let triangles: Vec<u32> = [0, 1]
         .iter()
-        .flat_map(|&i| triangles_of(&geometry, i))
+        .flat_map(|&i| geometry.instance_triangles(i))
         .collect();
     assert_eq!(triangles.len(), 4);
     for (&t, mean) in triangles.iter().zip(means) {

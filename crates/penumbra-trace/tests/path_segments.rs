@@ -11,7 +11,7 @@ use common::*;
 use glam::Vec3;
 use penumbra_scene::{Camera, IntegratorKind, Material, Projection, Scene, SceneLight};
 use penumbra_shading::Rgb;
-use penumbra_shading::light::{AreaLight, Light, PointLight, Shape};
+use penumbra_shading::light::{Light, PointLight, Shape};
 use penumbra_shading::sampling::Sampler;
 use penumbra_trace::accel::BuildQuality;
 use penumbra_trace::geometry::SceneGeometry;
@@ -206,17 +206,11 @@ fn aovs_are_the_first_hit() {
     let mut scene = Scene::default();
     let floor = lambert(&mut scene, 0.5);
     add(&mut scene, horizontal_quad(0.0, true, floor));
-    scene.area_lights.push(penumbra_scene::SceneAreaLight {
-        name: "sphere".into(),
-        light: AreaLight {
-            shape: Shape::Sphere {
-                center: Vec3::new(1.0, 2.0, 0.0),
-                radius: 1.5,
-            },
-            radiance: Rgb::ONE,
-            two_sided: false,
-        },
-    });
+    let sphere = Shape::Sphere {
+        center: Vec3::new(1.0, 2.0, 0.0),
+        radius: 1.5,
+    };
+    scene.area_lights.push(area_light("sphere", sphere, 1.0));
     let (radiance, depth) = look_down(&scene, -1.0, 0.0, 64);
     assert!(radiance > 0.0);
     assert!((depth - 10.0).abs() < 1e-4, "floor: {depth}");

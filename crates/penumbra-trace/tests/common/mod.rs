@@ -2,8 +2,11 @@
 #![allow(dead_code)]
 
 use glam::{Mat4, Vec3};
-use penumbra_scene::{Camera, IntegratorKind, Material, Mesh, Projection, RenderSettings, Scene};
+use penumbra_scene::{
+    Camera, IntegratorKind, Material, Mesh, Projection, RenderSettings, Scene, SceneAreaLight,
+};
 use penumbra_shading::Rgb;
+use penumbra_shading::light::{AreaLight, Shape};
 
 /// `primitives::quad` (front normal e1 × e2) with a material.
 pub fn quad(c: Vec3, e1: Vec3, e2: Vec3, material: usize) -> Mesh {
@@ -48,5 +51,17 @@ pub fn settings(
         integrator,
         seed: 3,
         ao_distance: f32::INFINITY,
+    }
+}
+
+/// A one-sided analytic area light of grey radiance `le`.
+pub fn area_light(name: &str, shape: Shape, le: f32) -> SceneAreaLight {
+    SceneAreaLight {
+        name: name.into(),
+        light: AreaLight {
+            shape,
+            radiance: Rgb::splat(le),
+            two_sided: false,
+        },
     }
 }
