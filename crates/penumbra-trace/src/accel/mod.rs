@@ -4,6 +4,7 @@
 //! 8-lane box tests (`traverse.rs`, AVX2 where the CPU has it) and our
 //! watertight triangle test.
 
+mod block;
 mod traverse;
 mod watertight;
 mod wide;
@@ -12,11 +13,15 @@ pub use traverse::Kernel;
 pub use watertight::{TriangleHit, WatertightRay};
 
 use crate::ray::Ray;
+use block::{LANES, TriangleBlock};
 use glam::{Vec3, Vec3A};
 use obvhs::BvhBuildParams;
 use obvhs::aabb::Aabb;
 use std::time::Duration;
 use wide::{LEAF_BIT, LEAF_MAX, Wide, leaf_range};
+
+/// The primitive index of a block's unused lanes.
+const PAD: u32 = u32::MAX;
 
 /// Relative padding of primitive boxes (≈ 32 ulps of the largest coordinate).
 const BOX_PAD_RELATIVE: f32 = 4.0e-6;
@@ -35,9 +40,10 @@ pub struct Hit {
 #[derive(Debug)]
 pub struct Accel {
     wide: Wide,
-    /// Triangles in leaf order.
-    ordered: Vec<[Vec3A; 3]>,
-    /// Input index of each leaf-order triangle.
+    /// The leaves' triangles, one block per leaf, in node order.
+    blocks: Vec<TriangleBlock>,
+    /// Input index of each triangle slot (`LANES` per block; [`PAD`] for
+    /// the lanes past a leaf's count).
     primitive_indices: Vec<u32>,
     triangle_count: usize,
     kernel: Kernel,
@@ -78,7 +84,7 @@ impl Accel {
         if triangles.is_empty() {
             return Self {
                 wide: Wide::default(),
-                ordered: Vec::new(),
+                blocks: Vec::new(),
                 primitive_indices: Vec::new(),
                 triangle_count: 0,
                 kernel,
@@ -104,17 +110,29 @@ impl Accel {
             })
             .collect();
         let bvh2 = obvhs::bvh2::builder::build_bvh2(&boxes, params, &mut Duration::default());
-        let wide = Wide::collapse(&bvh2);
-        let ordered = bvh2
-            .primitive_indices
-            .iter()
-            .map(|&i| triangles[i as usize].map(Vec3A::from))
-            .collect::<Vec<_>>();
-        let bytes = wide.nodes.len() * size_of::<wide::Node8>() + size_of_val(&ordered[..]);
+        let mut wide = Wide::collapse(&bvh2);
+        let mut blocks = Vec::new();
+        let mut primitive_indices = Vec::new();
+        wide.renumber_leaves(|first, count| {
+            let mut block = TriangleBlock::EMPTY;
+            for lane in 0..LANES {
+                let index = if lane < count {
+                    let i = bvh2.primitive_indices[first + lane];
+                    block.set(lane, triangles[i as usize].map(Vec3A::from));
+                    i
+                } else {
+                    PAD
+                };
+                primitive_indices.push(index);
+            }
+            blocks.push(block);
+            (blocks.len() - 1) as u32
+        });
+        let bytes = wide.nodes.len() * size_of::<wide::Node8>() + size_of_val(&blocks[..]);
         Self {
             wide,
-            ordered,
-            primitive_indices: bvh2.primitive_indices,
+            blocks,
+            primitive_indices,
             triangle_count: triangles.len(),
             kernel,
             prefetch: bytes > PREFETCH_ABOVE_BYTES,
@@ -161,7 +179,7 @@ impl Accel {
     /// masks); rejected hits are passed through.
     #[inline]
     pub fn intersect_where(&self, ray: &Ray, keep: impl Fn(u32, f32, f32) -> bool) -> Option<Hit> {
-        if self.ordered.is_empty() {
+        if self.blocks.is_empty() {
             return None;
         }
         let keep = |i: usize, b1, b2| keep(self.primitive_indices[i], b1, b2);
@@ -184,7 +202,7 @@ impl Accel {
     /// along `ray` in (0, ray.tmax).
     #[inline]
     pub fn occluded_where(&self, ray: &Ray, keep: impl Fn(u32, f32, f32) -> bool) -> bool {
-        if self.ordered.is_empty() {
+        if self.blocks.is_empty() {
             return false;
         }
         let keep = |i: usize, b1, b2| keep(self.primitive_indices[i], b1, b2);
@@ -196,7 +214,7 @@ impl Accel {
     fn query(&self, ray: &Ray) -> traverse::Query<'_> {
         traverse::Query::new(
             &self.wide,
-            &self.ordered,
+            &self.blocks,
             ray.origin,
             ray.direction,
             ray.tmax,
@@ -204,17 +222,29 @@ impl Accel {
         )
     }
 
+    /// The triangle in leaf-order slot `slot`.
+    fn slot_triangle(&self, slot: usize) -> [Vec3A; 3] {
+        self.blocks[slot / LANES].triangle(slot % LANES)
+    }
+
     /// Checks the BVH structure: every triangle is in exactly one leaf of
     /// at most `LEAF_MAX` triangles, every node is reached once, each box
-    /// holds its children's boxes and its triangles, and no path is longer
-    /// than the recorded depth (the stack bound). Returns a description of
-    /// the first problem.
+    /// holds its children's boxes and its triangles, no path is longer
+    /// than the recorded depth (the stack bound), and the lanes past each
+    /// leaf's count are padding. Returns a description of the first problem.
     pub fn validate(&self) -> Result<(), String> {
-        if self.ordered.is_empty() {
+        if self.blocks.is_empty() {
             return Ok(());
         }
+        if self.primitive_indices.len() != self.blocks.len() * LANES {
+            return Err(format!(
+                "{} primitive indices for {} blocks",
+                self.primitive_indices.len(),
+                self.blocks.len()
+            ));
+        }
         let mut seen = vec![false; self.triangle_count];
-        for &i in &self.primitive_indices {
+        for &i in self.primitive_indices.iter().filter(|&&i| i != PAD) {
             match seen.get_mut(i as usize) {
                 Some(s) => *s = true,
                 None => return Err(format!("primitive index {i} out of range")),
@@ -226,7 +256,7 @@ impl Accel {
         let inside = |p: [f32; 3], lo: [f32; 3], hi: [f32; 3]| {
             (0..3).all(|a| lo[a] <= p[a] && p[a] <= hi[a])
         };
-        let mut in_leaf = vec![false; self.ordered.len()];
+        let mut in_leaf = vec![false; self.primitive_indices.len()];
         let mut node_seen = vec![false; self.wide.nodes.len()];
         let everything = ([f32::NEG_INFINITY; 3], [f32::INFINITY; 3]);
         let mut todo = vec![(0u32, everything, 1usize)];
@@ -256,7 +286,7 @@ impl Accel {
                 let range = leaf_range(code);
                 if range.is_empty()
                     || range.len() > LEAF_MAX as usize
-                    || range.end > self.ordered.len()
+                    || range.end > self.primitive_indices.len()
                 {
                     return Err(format!("node {n} slot {slot}: bad leaf {range:?}"));
                 }
@@ -264,13 +294,21 @@ impl Accel {
                     if std::mem::replace(&mut in_leaf[i], true) {
                         return Err(format!("triangle slot {i} is in two leaves"));
                     }
-                    if !self.ordered[i].iter().all(|v| inside(v.to_array(), lo, hi)) {
+                    if self.primitive_indices[i] == PAD {
+                        return Err(format!("triangle slot {i} is padding but in a leaf"));
+                    }
+                    if !self
+                        .slot_triangle(i)
+                        .iter()
+                        .all(|v| inside(v.to_array(), lo, hi))
+                    {
                         return Err(format!("triangle slot {i} lies outside its leaf's box"));
                     }
                 }
             }
         }
-        if let Some(i) = in_leaf.iter().position(|s| !s) {
+        let stray = (0..in_leaf.len()).find(|&i| in_leaf[i] != (self.primitive_indices[i] != PAD));
+        if let Some(i) = stray {
             return Err(format!("triangle slot {i} is in no leaf"));
         }
         Ok(())
@@ -449,6 +487,13 @@ mod tests {
         (slots, deepest)
     }
 
+    /// Moves vertex `k` of the triangle in slot `slot` to `p`.
+    fn set_vertex(a: &mut Accel, slot: usize, k: usize, p: [f32; 3]) {
+        for (axis, &x) in p.iter().enumerate() {
+            a.blocks[slot / LANES].v[k][axis][slot % LANES] = x;
+        }
+    }
+
     /// `validate` accepts a sound tree, also one whose triangles touch
     /// their boxes and whose recorded depth is exact, and names each kind
     /// of broken tree.
@@ -491,15 +536,15 @@ mod tests {
         let i = leaf_range(code).start;
         let (lo, hi) = sound.wide.nodes[n].slot_box(s);
         let on_faces = broken(&|a| {
-            a.ordered[i][0] = Vec3A::from(lo);
-            a.ordered[i][1] = Vec3A::from(hi);
+            set_vertex(a, i, 0, lo);
+            set_vertex(a, i, 1, hi);
         });
         on_faces.validate().unwrap();
         for axis in 0..3 {
             for (corner, past) in [(lo, lo[axis].next_down()), (hi, hi[axis].next_up())] {
                 let mut out = corner;
                 out[axis] = past;
-                let a = broken(&|a| a.ordered[i][2] = Vec3A::from(out));
+                let a = broken(&|a| set_vertex(a, i, 2, out));
                 expect(&a, "lies outside its leaf's box");
             }
         }
@@ -508,9 +553,30 @@ mod tests {
             &broken(&|a| a.primitive_indices[0] = tris.len() as u32),
             "primitive index 500 out of range",
         );
+        let pair = leaves
+            .iter()
+            .map(|l| leaf_range(l.2))
+            .find(|r| r.len() >= 2)
+            .expect("a leaf of two triangles");
         expect(
-            &broken(&|a| a.primitive_indices[1] = a.primitive_indices[0]),
+            &broken(&|a| a.primitive_indices[pair.start + 1] = a.primitive_indices[pair.start]),
             "is not in the BVH",
+        );
+        // The slot list must be one block's lanes per block.
+        expect(
+            &broken(&|a| {
+                a.primitive_indices.pop();
+            }),
+            "primitive indices for",
+        );
+        // A leaf's count raised into its block's padding.
+        let (n, s, code) = *leaves
+            .iter()
+            .find(|l| count(l.2) < LEAF_MAX as usize)
+            .expect("a leaf with padding");
+        expect(
+            &broken(&|a| a.wide.nodes[n].child[s] = code + (1 << wide::COUNT_SHIFT)),
+            "is padding but in a leaf",
         );
         // A leaf slot emptied: its triangles are in no leaf.
         let (n, s, code) = *leaves
@@ -524,7 +590,7 @@ mod tests {
         // Leaf codes with no triangles, too many, or past the end.
         let empty = code & !(7 << wide::COUNT_SHIFT);
         let five = empty | (5 << wide::COUNT_SHIFT);
-        let past_end = wide::leaf_code(tris.len() as u32 - 1, 2);
+        let past_end = wide::leaf_code(sound.blocks.len() as u32, 1);
         for bad in [empty, five, past_end] {
             expect(&broken(&|a| a.wide.nodes[n].child[s] = bad), "bad leaf");
         }
@@ -573,9 +639,9 @@ mod tests {
         let (slots, _) = slots_and_depth(&accel);
         for (n, s, code) in slots.into_iter().filter(|s| s.2 & LEAF_BIT != 0) {
             let (lo, hi) = accel.wide.nodes[n].slot_box(s);
-            let vertices = || accel.ordered[leaf_range(code)].iter().flatten();
-            let tlo = vertices().fold(Vec3A::INFINITY, |a, &v| a.min(v));
-            let thi = vertices().fold(Vec3A::NEG_INFINITY, |a, &v| a.max(v));
+            let vertices = || leaf_range(code).flat_map(|i| accel.slot_triangle(i));
+            let tlo = vertices().fold(Vec3A::INFINITY, |a, v| a.min(v));
+            let thi = vertices().fold(Vec3A::NEG_INFINITY, |a, v| a.max(v));
             let slack = tlo.abs().max(thi.abs()).max_element() * 8e-6;
             for a in 0..3 {
                 assert!(

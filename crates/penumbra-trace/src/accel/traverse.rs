@@ -17,9 +17,10 @@
 //! (zeroing 2 KB per ray would cost more than a node test).
 #![allow(unsafe_code)]
 
+use super::block::{LANES, TriangleBlock};
 use super::watertight::{TriangleHit, WatertightRay};
-use super::wide::{LEAF_BIT, Node8, WIDTH, Wide, leaf_range};
-use glam::{Vec3, Vec3A};
+use super::wide::{LEAF_BIT, Node8, WIDTH, Wide, leaf_parts};
+use glam::Vec3;
 use std::mem::MaybeUninit;
 
 /// Which compiled traversal runs.
@@ -88,11 +89,11 @@ impl BoxRay {
     }
 }
 
-/// One ray's query: the tree, its triangles in leaf order, the ray as the
+/// One ray's query: the tree, its leaves' triangle blocks, the ray as the
 /// box test and the triangle test each see it, and the far end of the ray.
 pub(super) struct Query<'a> {
     pub wide: &'a Wide,
-    pub tris: &'a [[Vec3A; 3]],
+    pub blocks: &'a [TriangleBlock],
     boxes: BoxRay,
     triangles: WatertightRay,
     tmax: f32,
@@ -103,7 +104,7 @@ pub(super) struct Query<'a> {
 impl<'a> Query<'a> {
     pub fn new(
         wide: &'a Wide,
-        tris: &'a [[Vec3A; 3]],
+        blocks: &'a [TriangleBlock],
         origin: Vec3,
         direction: Vec3,
         tmax: f32,
@@ -111,7 +112,7 @@ impl<'a> Query<'a> {
     ) -> Self {
         Query {
             wide,
-            tris,
+            blocks,
             boxes: BoxRay::new(origin, direction),
             triangles: WatertightRay::new(origin, direction),
             tmax,
@@ -223,10 +224,10 @@ fn prefetch(q: &Query, code: u32) {
     {
         use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
         let (start, bytes) = if code & LEAF_BIT != 0 {
-            let r = leaf_range(code);
+            let (block, _) = leaf_parts(code);
             (
-                q.tris[r.start..].as_ptr().cast::<i8>(),
-                r.len() * size_of::<[Vec3A; 3]>(),
+                q.blocks[block..].as_ptr().cast::<i8>(),
+                size_of::<TriangleBlock>(),
             )
         } else {
             (
@@ -235,13 +236,13 @@ fn prefetch(q: &Query, code: u32) {
             )
         };
         // Every 64-byte line that holds a byte of [start, start + bytes):
-        // from the line of the first byte on (triangles are 48 bytes, so a
-        // leaf can start anywhere in a line).
+        // from the line of the first byte on (blocks are 144 bytes, so one
+        // can start anywhere in a line).
         let mut line = start.wrapping_sub(start as usize % 64);
         let end = start.wrapping_add(bytes);
         while line < end {
             // SAFETY: a prefetch never faults; the addresses lie in the
-            // lines of `q.tris` or `q.wide.nodes` (checked by the slicing).
+            // lines of `q.blocks` or `q.wide.nodes` (checked by the slicing).
             unsafe { _mm_prefetch::<_MM_HINT_T0>(line) };
             line = line.wrapping_add(64);
         }
@@ -259,6 +260,24 @@ fn slab<const AVX2: bool>(node: &Node8, r: &BoxRay, tmax: f32, t: &mut [f32; WID
     slab_portable(node, r, tmax, t)
 }
 
+/// The 4-lane test of a leaf's block in the AVX2 kernel; `None` (the
+/// scalar test, lane by lane) in the portable one, or where a lane needs
+/// the scalar test's f64 fallback.
+#[inline(always)]
+fn block_hits<const AVX2: bool>(
+    q: &Query,
+    block: &TriangleBlock,
+    count: usize,
+    tmax: f32,
+) -> Option<super::block::BlockHits> {
+    #[cfg(target_arch = "x86_64")]
+    if AVX2 {
+        return super::block::intersect4(&q.triangles, block, count, tmax);
+    }
+    let _ = (q, block, count, tmax);
+    None
+}
+
 /// Closest accepted hit in (0, tmax): the leaf-order triangle index and
 /// the hit. `keep(i, b1, b2)` filters hits (any-hit test).
 #[inline(always)]
@@ -273,13 +292,33 @@ fn closest<const AVX2: bool>(
     let mut code = 0u32;
     loop {
         if code & LEAF_BIT != 0 {
-            for i in leaf_range(code) {
-                let [a, b, c] = q.tris[i];
-                if let Some(h) = q.triangles.intersect_a(a, b, c, best_t)
-                    && keep(i, h.b1, h.b2)
-                {
-                    best_t = h.t;
-                    best = Some((i, h));
+            let (b, count) = leaf_parts(code);
+            let block = &q.blocks[b];
+            match block_hits::<AVX2>(q, block, count, best_t) {
+                Some(hits) => {
+                    let mut m = hits.mask;
+                    while m != 0 {
+                        let lane = m.trailing_zeros() as usize;
+                        m &= m - 1;
+                        // An earlier lane may have brought `best_t` closer.
+                        if let Some(h) = hits.within(lane, best_t)
+                            && keep(LANES * b + lane, h.b1, h.b2)
+                        {
+                            best_t = h.t;
+                            best = Some((LANES * b + lane, h));
+                        }
+                    }
+                }
+                None => {
+                    for lane in 0..count {
+                        let [v0, v1, v2] = block.triangle(lane);
+                        if let Some(h) = q.triangles.intersect_a(v0, v1, v2, best_t)
+                            && keep(LANES * b + lane, h.b1, h.b2)
+                        {
+                            best_t = h.t;
+                            best = Some((LANES * b + lane, h));
+                        }
+                    }
                 }
             }
         } else {
@@ -347,12 +386,31 @@ fn any<const AVX2: bool>(
     let mut code = 0u32;
     loop {
         if code & LEAF_BIT != 0 {
-            for i in leaf_range(code) {
-                let [a, b, c] = q.tris[i];
-                if let Some(h) = q.triangles.intersect_a(a, b, c, q.tmax)
-                    && keep(i, h.b1, h.b2)
-                {
-                    return true;
+            let (b, count) = leaf_parts(code);
+            let block = &q.blocks[b];
+            let i = |lane: usize| LANES * b + lane;
+            match block_hits::<AVX2>(q, block, count, q.tmax) {
+                Some(hits) => {
+                    let mut m = hits.mask;
+                    while m != 0 {
+                        let lane = m.trailing_zeros() as usize;
+                        m &= m - 1;
+                        if let Some(h) = hits.within(lane, q.tmax)
+                            && keep(i(lane), h.b1, h.b2)
+                        {
+                            return true;
+                        }
+                    }
+                }
+                None => {
+                    for lane in 0..count {
+                        let [v0, v1, v2] = block.triangle(lane);
+                        if let Some(h) = q.triangles.intersect_a(v0, v1, v2, q.tmax)
+                            && keep(i(lane), h.b1, h.b2)
+                        {
+                            return true;
+                        }
+                    }
                 }
             }
         } else {

@@ -20,6 +20,10 @@ pub struct WatertightRay {
     rx: Vec3A,
     ry: Vec3A,
     rz: Vec3A,
+    /// The axes (kx, ky, kz) and the shear (sx, sy, sz) the rows are made
+    /// of, for the 4-lane test of `block.rs`.
+    k: [usize; 3],
+    s: [f32; 3],
 }
 
 /// A hit: distance and barycentrics (b1 for v1, b2 for v2).
@@ -60,7 +64,27 @@ impl WatertightRay {
             rx: axis(kx) - sx * axis(kz),
             ry: axis(ky) - sy * axis(kz),
             rz: sz * axis(kz),
+            k: [kx, ky, kz],
+            s: [sx, sy, sz],
         }
+    }
+
+    /// The ray's origin.
+    #[inline(always)]
+    pub(super) fn origin(&self) -> Vec3A {
+        self.origin
+    }
+
+    /// The axes (kx, ky, kz): kz the direction's dominant one.
+    #[inline(always)]
+    pub(super) fn permutation(&self) -> [usize; 3] {
+        self.k
+    }
+
+    /// The shear (sx, sy, sz) = (d_kx / d_kz, d_ky / d_kz, 1 / d_kz).
+    #[inline(always)]
+    pub(super) fn shear(&self) -> [f32; 3] {
+        self.s
     }
 
     /// Intersects triangle (p0, p1, p2) within (0, tmax).

@@ -7,6 +7,7 @@
 //! largest surface area until it has eight (Wald et al. 2008, "Getting rid
 //! of packets").
 
+use super::block::LANES;
 use obvhs::aabb::Aabb;
 use obvhs::bvh2::Bvh2;
 
@@ -14,10 +15,12 @@ use obvhs::bvh2::Bvh2;
 pub(super) const WIDTH: usize = 8;
 
 /// Largest leaf, in triangles.
-pub(super) const LEAF_MAX: u32 = 4;
+pub(super) const LEAF_MAX: u32 = LANES as u32;
 
 /// A slot's code: an inner node's index, or a leaf: this bit, its triangle
-/// count in [`COUNT_SHIFT`].., and its first triangle (in leaf order) below.
+/// count in [`COUNT_SHIFT`].., and its triangles' block (`block.rs`) below.
+/// While [`Wide::collapse`] runs, the low bits are the leaf's first index
+/// into the binary BVH's primitive list instead.
 pub(super) const LEAF_BIT: u32 = 1 << 31;
 pub(super) const COUNT_SHIFT: u32 = 28;
 const START_MASK: u32 = (1 << COUNT_SHIFT) - 1;
@@ -69,17 +72,29 @@ impl Node8 {
     }
 }
 
-/// A leaf code for `count` triangles from `start`.
+/// A leaf code for `count` triangles at `start` (a block, or while
+/// collapsing a first primitive index).
 pub(super) fn leaf_code(start: u32, count: u32) -> u32 {
     debug_assert!((1..=LEAF_MAX).contains(&count) && start <= START_MASK);
     LEAF_BIT | (count << COUNT_SHIFT) | start
 }
 
-/// The triangle range of a leaf code.
+/// The start field (block) and triangle count of a leaf code.
+#[inline(always)]
+pub(super) fn leaf_parts(code: u32) -> (usize, usize) {
+    (
+        (code & START_MASK) as usize,
+        ((code & !LEAF_BIT) >> COUNT_SHIFT) as usize,
+    )
+}
+
+/// The triangle slots of a leaf code: lanes 0..count of its block, slot
+/// `LANES · block + lane` in leaf order.
 #[inline(always)]
 pub(super) fn leaf_range(code: u32) -> std::ops::Range<usize> {
-    let start = (code & START_MASK) as usize;
-    start..start + ((code & !LEAF_BIT) >> COUNT_SHIFT) as usize
+    let (block, count) = leaf_parts(code);
+    let start = block * LANES;
+    start..start + count
 }
 
 /// The 8-wide tree: `nodes[0]` is the root.
@@ -108,6 +123,20 @@ impl Wide {
             wide.depth = wide.add(bvh2, 0);
         }
         wide
+    }
+
+    /// Gives each leaf, in node order, the start field `start(first,
+    /// count)` in place of its first primitive index.
+    pub fn renumber_leaves(&mut self, mut start: impl FnMut(usize, usize) -> u32) {
+        for node in &mut self.nodes {
+            for slot in 0..WIDTH {
+                let code = node.child[slot];
+                if node.used(slot) && code & LEAF_BIT != 0 {
+                    let (first, count) = leaf_parts(code);
+                    node.child[slot] = leaf_code(start(first, count), count as u32);
+                }
+            }
+        }
     }
 
     /// Adds the node made from binary node `n2` (an inner node) and its
