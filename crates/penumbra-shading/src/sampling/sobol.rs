@@ -143,19 +143,37 @@ impl Sampler {
     /// with reversed tables, so only three reversals remain.
     #[inline]
     pub fn next_2d(&mut self) -> [f32; 2] {
-        let dim_seed = hash_combine(self.pixel_seed, self.dimension);
-        self.dimension += 1;
-        let y = laine_karras_permutation(self.index_reversed, dim_seed);
-        let a =
-            laine_karras_permutation(y.reverse_bits(), hash_combine(dim_seed, 1)).reverse_bits();
+        let (dim_seed, y) = self.next_pair();
         let b = laine_karras_permutation(sobol_dim1_reversed(y), hash_combine(dim_seed, 2))
             .reverse_bits();
-        [to_unit_float(a), to_unit_float(b)]
+        [Self::first(dim_seed, y), to_unit_float(b)]
     }
 
-    /// Next value in [0,1).
+    /// Next value in [0,1): the first coordinate of the next 2-D point
+    /// (the second is not computed).
+    #[inline]
     pub fn next_1d(&mut self) -> f32 {
-        self.next_2d()[0]
+        let (dim_seed, y) = self.next_pair();
+        Self::first(dim_seed, y)
+    }
+
+    /// The next dimension pair's seed and shuffled, reversed index `y`.
+    #[inline(always)]
+    fn next_pair(&mut self) -> (u32, u32) {
+        let dim_seed = hash_combine(self.pixel_seed, self.dimension);
+        self.dimension += 1;
+        (
+            dim_seed,
+            laine_karras_permutation(self.index_reversed, dim_seed),
+        )
+    }
+
+    /// Dimension 0 of the pair: `R(LK(i'))` with `y = R(i')`.
+    #[inline(always)]
+    fn first(dim_seed: u32, y: u32) -> f32 {
+        let a =
+            laine_karras_permutation(y.reverse_bits(), hash_combine(dim_seed, 1)).reverse_bits();
+        to_unit_float(a)
     }
 }
 
