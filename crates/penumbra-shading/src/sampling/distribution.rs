@@ -13,6 +13,10 @@
 pub struct Distribution1D {
     cdf: Vec<f64>,
     total: f64,
+    /// `(cdf[i] − cdf[i−1]) / total` in f32, computed once (a sample's
+    /// probability is then one load, not an f64 division); empty when all
+    /// weights are 0.
+    pmf: Vec<f32>,
     /// n + 1 cutpoints (empty when all weights are 0).
     guide: Vec<u32>,
 }
@@ -39,7 +43,24 @@ impl Distribution1D {
         } else {
             Vec::new()
         };
-        Self { cdf, total, guide }
+        let pmf = if total > 0.0 {
+            let mut prev = 0.0;
+            cdf.iter()
+                .map(|&c| {
+                    let p = ((c - prev) / total) as f32;
+                    prev = c;
+                    p
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
+        Self {
+            cdf,
+            total,
+            pmf,
+            guide,
+        }
     }
 
     pub fn is_empty(&self) -> bool {
@@ -51,12 +72,9 @@ impl Distribution1D {
     }
 
     /// Probability of item `i`.
+    #[inline]
     pub fn pmf(&self, i: usize) -> f32 {
-        if self.total <= 0.0 || i >= self.cdf.len() {
-            return 0.0;
-        }
-        let prev = if i == 0 { 0.0 } else { self.cdf[i - 1] };
-        ((self.cdf[i] - prev) / self.total) as f32
+        self.pmf.get(i).copied().unwrap_or(0.0)
     }
 
     /// Item for `u` ∈ [0,1), with its probability. `None` if all weights are 0.
