@@ -4,12 +4,9 @@
 //!
 //! The 4-lane test makes, in each lane, the IEEE operations of
 //! [`WatertightRay::intersect_a`] in the same order, so it finds the same
-//! hits with the same distances and barycentrics to the bit: the sheared
-//! coordinate `a[kx] − sx·a[kz]` is what the scalar test's dot product with
-//! its row `(e_kx − sx·e_kz)` rounds to, since the row's other products are
-//! exact zeros. Where an edge function is exactly 0 the scalar test
-//! recomputes it in f64; a block with such a lane is handed to the scalar
-//! test whole.
+//! hits with the same distances and barycentrics to the bit. Where an edge
+//! function is exactly 0 the scalar test recomputes it in f64; a block
+//! with such a lane is handed to the scalar test whole.
 #![allow(unsafe_code)]
 
 use super::watertight::{TriangleHit, WatertightRay};

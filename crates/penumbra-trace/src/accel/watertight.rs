@@ -9,19 +9,15 @@
 
 use glam::{Vec3, Vec3A};
 
-/// Per-ray precomputation: the permutation and shear as three row vectors,
-/// so that the sheared vertex is `(rx·a, ry·a, rz·a)` with `a = p − o`. Each
-/// row has at most two non-zero entries, so every dot product rounds exactly
-/// like the textbook `a[kx] − sx·a[kz]` (adding exact zeros), and the same
-/// vertex gives the same values in every triangle that shares it.
+/// Per-ray precomputation: the axes (kx, ky, kz), kz the direction's
+/// dominant one (kx, ky swapped for a negative d_kz, keeping the winding),
+/// and the shear (sx, sy, sz) = (d_kx / d_kz, d_ky / d_kz, 1 / d_kz): the
+/// sheared vertex is `(a_kx − sx·a_kz, a_ky − sy·a_kz, sz·a_kz)` with
+/// `a = p − o`, so the same vertex gives the same values in every
+/// triangle that shares it.
 #[derive(Clone, Copy, Debug)]
 pub struct WatertightRay {
     origin: Vec3A,
-    rx: Vec3A,
-    ry: Vec3A,
-    rz: Vec3A,
-    /// The axes (kx, ky, kz) and the shear (sx, sy, sz) the rows are made
-    /// of, for the 4-lane test of `block.rs`.
     k: [usize; 3],
     s: [f32; 3],
 }
@@ -34,13 +30,8 @@ pub struct TriangleHit {
     pub b2: f32,
 }
 
-fn axis(k: usize) -> Vec3A {
-    match k {
-        0 => Vec3A::X,
-        1 => Vec3A::Y,
-        _ => Vec3A::Z,
-    }
-}
+/// The axis after each: (kz + 1, kz + 2) mod 3 without a division.
+const NEXT_AXIS: [usize; 3] = [1, 2, 0];
 
 impl WatertightRay {
     pub fn new(origin: Vec3, dir: Vec3) -> Self {
@@ -52,20 +43,14 @@ impl WatertightRay {
         } else {
             2
         };
-        let mut kx = (kz + 1) % 3;
-        let mut ky = (kx + 1) % 3;
-        if dir[kz] < 0.0 {
-            std::mem::swap(&mut kx, &mut ky);
-        }
-        let sz = 1.0 / dir[kz];
-        let (sx, sy) = (dir[kx] * sz, dir[ky] * sz);
+        let d = dir.to_array();
+        let (kx, ky) = (NEXT_AXIS[kz], NEXT_AXIS[NEXT_AXIS[kz]]);
+        let (kx, ky) = if d[kz] < 0.0 { (ky, kx) } else { (kx, ky) };
+        let sz = 1.0 / d[kz];
         Self {
             origin: origin.into(),
-            rx: axis(kx) - sx * axis(kz),
-            ry: axis(ky) - sy * axis(kz),
-            rz: sz * axis(kz),
             k: [kx, ky, kz],
-            s: [sx, sy, sz],
+            s: [d[kx] * sz, d[ky] * sz, sz],
         }
     }
 
@@ -96,12 +81,15 @@ impl WatertightRay {
     /// [`WatertightRay::intersect`] on SIMD-aligned vertices.
     #[inline(always)]
     pub fn intersect_a(&self, p0: Vec3A, p1: Vec3A, p2: Vec3A, tmax: f32) -> Option<TriangleHit> {
-        let a = p0 - self.origin;
-        let b = p1 - self.origin;
-        let c = p2 - self.origin;
-        let (ax, ay) = (self.rx.dot(a), self.ry.dot(a));
-        let (bx, by) = (self.rx.dot(b), self.ry.dot(b));
-        let (cx, cy) = (self.rx.dot(c), self.ry.dot(c));
+        let [kx, ky, kz] = self.k;
+        let [sx, sy, sz] = self.s;
+        let sheared = |p: Vec3A| {
+            let a = (p - self.origin).to_array();
+            (a[kx] - sx * a[kz], a[ky] - sy * a[kz], sz * a[kz])
+        };
+        let (ax, ay, az) = sheared(p0);
+        let (bx, by, bz) = sheared(p1);
+        let (cx, cy, cz) = sheared(p2);
         let mut u = cx * by - cy * bx;
         let mut v = ax * cy - ay * cx;
         let mut w = bx * ay - by * ax;
@@ -117,7 +105,7 @@ impl WatertightRay {
         if det == 0.0 {
             return None;
         }
-        let t_scaled = u * self.rz.dot(a) + v * self.rz.dot(b) + w * self.rz.dot(c);
+        let t_scaled = u * az + v * bz + w * cz;
         // t = t_scaled / det must lie in (0, tmax); compare without dividing
         // by the sign of det.
         if det < 0.0 && (t_scaled >= 0.0 || t_scaled < tmax * det) {
