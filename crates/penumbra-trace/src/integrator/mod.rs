@@ -44,8 +44,8 @@ pub struct TraceContext<'a> {
 
 /// Local shading state at a surface hit, oriented towards the outgoing
 /// direction for two-sided materials.
-pub(crate) struct Shading {
-    pub hit: SurfaceHit,
+pub(crate) struct Shading<'h> {
+    pub hit: &'h SurfaceHit,
     pub frame: Frame,
     /// Geometric normal on the side of `wo`.
     pub ng: Vec3,
@@ -75,7 +75,12 @@ impl TraceContext<'_> {
     /// `cone_width` is the width of the arriving ray's cone at the hit: the
     /// textures are filtered over it ([`crate::texture_lod`]; 0 reads
     /// level 0).
-    pub(crate) fn shading(&self, hit: &SurfaceHit, wo: Vec3, cone_width: f32) -> Option<Shading> {
+    pub(crate) fn shading<'h>(
+        &self,
+        hit: &'h SurfaceHit,
+        wo: Vec3,
+        cone_width: f32,
+    ) -> Option<Shading<'h>> {
         let material = &self.scene.materials[hit.material];
         let (mut ng, mut ns) = (hit.ng, hit.ns);
         let mut bsdf = material.bsdf;
@@ -138,7 +143,7 @@ impl TraceContext<'_> {
             wo_local = wo_local.normalize();
         }
         Some(Shading {
-            hit: *hit,
+            hit,
             frame,
             ng,
             bsdf,
@@ -342,9 +347,10 @@ mod tests {
             let m = scene.add_material(material);
             add_floor(&mut scene, m);
             with_context(&scene, |ctx| {
-                let above = ctx.shading(&floor_hit(ctx, 1.0), Vec3::Y, 0.0).unwrap();
+                let (hit_above, hit_below) = (floor_hit(ctx, 1.0), floor_hit(ctx, -1.0));
+                let above = ctx.shading(&hit_above, Vec3::Y, 0.0).unwrap();
                 assert_eq!(above.ng, Vec3::Y);
-                let below = ctx.shading(&floor_hit(ctx, -1.0), -Vec3::Y, 0.0);
+                let below = ctx.shading(&hit_below, -Vec3::Y, 0.0);
                 assert_eq!(below.is_some(), seen_from_behind);
                 if let Some(s) = below {
                     assert_eq!(s.ng, -Vec3::Y);
@@ -362,7 +368,8 @@ mod tests {
         let m = scene.add_material(Material::lambert("m", Rgb::ONE));
         add_floor(&mut scene, m);
         with_context(&scene, |ctx| {
-            let s = ctx.shading(&floor_hit(ctx, 1.0), Vec3::Y, 0.0).unwrap();
+            let hit = floor_hit(ctx, 1.0);
+            let s = ctx.shading(&hit, Vec3::Y, 0.0).unwrap();
             // World directions (the floor's normal is +y) and local ones
             // (the shading normal is +z).
             let (up, down, along) = (
@@ -427,7 +434,8 @@ mod tests {
             let m = scene.add_material(material);
             add_floor(&mut scene, m);
             with_context(&scene, |ctx| {
-                let s = ctx.shading(&floor_hit(ctx, 1.0), Vec3::Y, 0.0).unwrap();
+                let hit = floor_hit(ctx, 1.0);
+                let s = ctx.shading(&hit, Vec3::Y, 0.0).unwrap();
                 let (mut refracted, mut late) = (0, 0);
                 let n = 4000;
                 for i in 0..n {

@@ -19,7 +19,7 @@ impl TraceContext<'_> {
     /// The shading state of `hit` seen from its front side, with its
     /// material's BSDF; `None` for the back of a one-sided surface (cannot
     /// happen from the front) or a point on an analytic light.
-    fn front_shading(&self, hit: &SurfaceHit) -> Option<Shading> {
+    fn front_shading<'h>(&self, hit: &'h SurfaceHit) -> Option<Shading<'h>> {
         if hit.light.is_some() {
             return None;
         }
