@@ -84,9 +84,8 @@ impl BlockHits {
 
 /// Tests the first `count` lanes of `block` against `ray` within
 /// (0, `tmax`). `None` when a lane needs the scalar test's f64 fallback.
-///
-/// # Safety
-/// SSE2 only, which every x86-64 CPU has; compiled into the AVX2 kernel.
+/// SSE2 instructions only, which every x86-64 CPU has; inlined into the
+/// AVX2 kernel, whose features then encode them.
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
 pub(super) fn intersect4(

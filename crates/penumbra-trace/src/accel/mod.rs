@@ -487,6 +487,68 @@ mod tests {
         (slots, deepest)
     }
 
+    /// Four triangles with one bounding box (one leaf), crossing the z
+    /// axis at different heights, hit by rays from above and below:
+    /// whichever lane order the leaf has, each kernel reports the nearest
+    /// one (a later lane's closer hit replaces an earlier one, a farther
+    /// one does not), with its exact distance and barycentrics.
+    #[test]
+    fn the_nearest_of_a_leafs_triangles_wins() {
+        // At (x, y) = (0, 0), b = (½, ¼, ¼): z = ½ z₀ + ¼ z₁ + ¼ z₂.
+        let tri = |[z0, z1, z2]: [f32; 3]| {
+            [
+                Vec3::new(-1.0, -1.0, z0),
+                Vec3::new(3.0, -1.0, z1),
+                Vec3::new(-1.0, 3.0, z2),
+            ]
+        };
+        let heights = [2.125, 2.875, 2.5, 2.0];
+        let mut tris = [
+            [1.0, 4.0, 2.5],
+            [4.0, 2.5, 1.0],
+            [2.5, 1.0, 4.0],
+            [1.5, 4.0, 1.0],
+        ]
+        .map(tri)
+        .to_vec();
+        // Small trees keep a leaf per triangle: others far off make the
+        // build collapse leaves.
+        let (far, _) = random_soup(300, 9);
+        tris.extend(far.iter().map(|t| t.map(|v| v + Vec3::X * 100.0)));
+        let mut accel = Accel::build(&tris, BuildQuality::Medium);
+        let block_of = |i: u32| {
+            let slot = accel.primitive_indices.iter().position(|&p| p == i);
+            slot.unwrap() / LANES
+        };
+        assert!((1..4).all(|i| block_of(i) == block_of(0)), "one leaf");
+        for kernel in Kernel::available() {
+            accel.set_kernel(kernel).unwrap();
+            // From above: triangle 1 (z = 2.875), then 2; from below: 3, then 0.
+            for (z, dir, [first, second]) in [(10.0, -1.0, [1, 2]), (-10.0, 1.0, [3, 0])] {
+                let ray = Ray::new(Vec3::new(0.0, 0.0, z), Vec3::new(0.0, 0.0, dir));
+                let t = |i: usize| (heights[i] - z) * dir;
+                let hit = accel.intersect(&ray).unwrap();
+                assert_eq!(
+                    (hit.triangle, hit.t),
+                    (first as u32, t(first)),
+                    "{kernel:?} z {z}"
+                );
+                assert_eq!((hit.b1, hit.b2), (0.25, 0.25), "{kernel:?}");
+                // Up to the nearest hit, none; with it filtered out, the next.
+                let short = Ray::segment(ray.origin, ray.direction, t(first));
+                assert!(accel.intersect(&short).is_none(), "{kernel:?}");
+                let next = accel
+                    .intersect_where(&ray, |i, _, _| i != first as u32)
+                    .unwrap();
+                assert_eq!(
+                    (next.triangle, next.t),
+                    (second as u32, t(second)),
+                    "{kernel:?}"
+                );
+            }
+        }
+    }
+
     /// Moves vertex `k` of the triangle in slot `slot` to `p`.
     fn set_vertex(a: &mut Accel, slot: usize, k: usize, p: [f32; 3]) {
         for (axis, &x) in p.iter().enumerate() {
