@@ -178,7 +178,8 @@ pub(super) fn intersect4(
     }
 }
 
-#[cfg(all(test, target_arch = "x86_64"))]
+#[cfg(test)]
+#[cfg(target_arch = "x86_64")]
 mod tests {
     use super::*;
     use glam::Vec3;

@@ -1,0 +1,78 @@
+#!/usr/bin/env bash
+# Path-tracing efficiency of penumbra and Mitsuba 3 (llvm_ad_rgb) in one run,
+# on the two scenes of issue 13: the Cornell box of ../shared/reference
+# (512², depth 8) and the Cornell box with a glass sphere
+# (crates/penumbra-trace/tests/data/cornell-glass, 256², depth 16), both at
+# 256 spp on all cores. Each render is compared with the scene's reference
+# EXR (../shared/anchors/compare.py) and the efficiency 1/(relMSE · seconds)
+# is printed as a ratio to Mitsuba's. Needs the anchors' venv
+# (../shared/anchors/setup.sh).
+#
+#   scripts/bench-vs-mitsuba.sh [PENUMBRA_BINARY...]   (default: a fresh release build)
+#
+# Several binaries (say the builds before and after a change) are run one
+# after another in the same run, so that their ratios share Mitsuba's time.
+# Results: $OUT (default /tmp/bench-vs-mitsuba): the EXRs, results.jsonl and
+# summary.txt.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+ANCHORS=$(cd ../shared/anchors && pwd)
+REFERENCE=$(cd ../shared/reference && pwd)
+PY=${PY:-/opt/anchors-venv/bin/python}
+export DRJIT_LIBLLVM_PATH=${DRJIT_LIBLLVM_PATH:-/usr/lib/x86_64-linux-gnu/libLLVM-19.so}
+OUT=${OUT:-/tmp/bench-vs-mitsuba}
+export ANCHORS_OUT=$OUT
+mkdir -p "$OUT"
+if [ $# -eq 0 ]; then
+  cargo build --release -p penumbra-cli
+  set -- "$PWD/target/release/penumbra"
+fi
+GLASS=$PWD/crates/penumbra-trace/tests/data/cornell-glass
+CORNELL=$REFERENCE/cornell
+: > "$OUT/results.jsonl"
+: > "$OUT/summary.txt"
+
+# scene name, Mitsuba scene.json, penumbra scene, reference EXR, max depth
+scene() {
+  local name=$1 json=$2 scene=$3 ref=$4 depth=$5
+  shift 5
+  "$PY" "$ANCHORS/render_mitsuba.py" "$json" --spp 256 --max-depth "$depth" --runs 2 --warmup 1 \
+    --out "$OUT/mitsuba-$name.exr" | tail -1 | tee -a "$OUT/results.jsonl"
+  local tests=("$OUT/mitsuba-$name.exr")
+  local k=0
+  for bin in "$@"; do
+    k=$((k + 1))
+    local exr="$OUT/penumbra$k-$name.exr"
+    local line
+    line=$("$bin" render "$scene" --spp 256 --max-depth "$depth" --seed 1 -o "$exr" 2>&1 | grep -E ' in [0-9.]+ s')
+    local secs
+    secs=$(sed -E 's/.* in ([0-9.]+) s.*/\1/' <<<"$line")
+    echo "{\"tool\": \"penumbra\", \"binary\": \"$bin\", \"scene\": \"$name\", \"seconds\": $secs, \"exr\": \"$exr\"}" |
+      tee -a "$OUT/results.jsonl"
+    tests+=("$exr")
+  done
+  "$PY" "$ANCHORS/compare.py" --ref "$ref" "${tests[@]}" | grep '^{' | tee -a "$OUT/results.jsonl"
+}
+
+scene glass "$GLASS/scene.json" "$GLASS/scene.toml" "$GLASS/reference-path-depth16-4096spp.exr" 16 "$@"
+scene cornell "$CORNELL/scene.json" "$CORNELL/cornell.gltf" "$CORNELL/reference-path-depth8-4096spp.exr" 8 "$@"
+
+# Efficiency 1/(relMSE · s) of each render, as a ratio to Mitsuba's.
+python3 - "$OUT/results.jsonl" <<'PY' | tee "$OUT/summary.txt"
+import json, os, sys
+rows = [json.loads(l) for l in open(sys.argv[1]) if l.startswith("{")]
+seconds, relmse = {}, {}
+for r in rows:
+    if r.get("tool") == "compare":
+        relmse[os.path.basename(r["test"])] = r["relmse"]
+    elif "exr" in r and "seconds" in r:
+        seconds[os.path.basename(r["exr"])] = (r.get("binary", r["tool"]), r["seconds"])
+for scene in ("glass", "cornell"):
+    base = f"mitsuba-{scene}.exr"
+    mitsuba = 1.0 / (relmse[base] * seconds[base][1])
+    print(f"{scene}: Mitsuba {seconds[base][1]:.2f} s, relMSE {relmse[base]:.5f}")
+    for exr, (who, s) in sorted(seconds.items()):
+        if exr.startswith("penumbra") and exr.endswith(f"-{scene}.exr"):
+            eff = 1.0 / (relmse[exr] * s)
+            print(f"  {who}: {s:.2f} s, relMSE {relmse[exr]:.5f}, efficiency {eff / mitsuba:.2f}x Mitsuba's")
+PY
