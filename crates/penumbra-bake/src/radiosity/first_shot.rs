@@ -77,7 +77,7 @@ pub(crate) fn direct_from_non_patch_lights(
             };
             for s in 0..FIRST_SHOT_SAMPLES {
                 let mut sampler = Sampler::new(t.x, t.y + t.page * page_h, s, seed);
-                let [u_pick, _] = sampler.next_2d();
+                let u_pick = sampler.next_1d();
                 let (triangle, b) = sample_footprint(pieces, patch.area, u_pick, sampler.next_2d());
                 let hit = prep.geometry.surface_point(prep.scene, triangle, b.x, b.y);
                 ctx.irradiance_at(&hit, &mut sampler, 0, &mut sink);

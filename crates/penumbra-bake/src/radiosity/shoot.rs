@@ -236,7 +236,7 @@ fn trace_shot(
         .with_min_len(RAYS_PER_TASK)
         .map(|r| {
             let mut sampler = Sampler::new(i as u32, shot, r, seed);
-            let [u_pick, _] = sampler.next_2d();
+            let u_pick = sampler.next_1d();
             let (triangle, b) = sample_footprint(pieces, area, u_pick, sampler.next_2d());
             let [p0, p1, p2] = geometry.triangles[triangle as usize];
             let p = p0 * (1.0 - b.x - b.y) + p1 * b.x + p2 * b.y;

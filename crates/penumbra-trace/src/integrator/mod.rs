@@ -204,7 +204,7 @@ impl TraceContext<'_> {
                 add(ls.wi, ls.distance, ls.value);
             }
         }
-        let [u_sel, _] = sampler.next_2d();
+        let u_sel = sampler.next_1d();
         let u = sampler.next_2d();
         if let Some(c) = self
             .lights

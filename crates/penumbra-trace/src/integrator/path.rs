@@ -184,7 +184,7 @@ pub(crate) fn next_event<S: RadianceSink>(
     depth: u32,
     sink: &mut S,
 ) {
-    let [u_sel, _] = sampler.next_2d();
+    let u_sel = sampler.next_1d();
     let u_light = sampler.next_2d();
     if !s.bsdf.flags().non_delta {
         return;
