@@ -10,16 +10,8 @@
 # Results: $OUT (default /tmp/bench-vs-embree): results.jsonl (Embree) and penumbra.txt.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-ANCHORS=$(cd ../shared/anchors && pwd)
-PY=${PY:-/opt/anchors-venv/bin/python}
-export DRJIT_LIBLLVM_PATH=${DRJIT_LIBLLVM_PATH:-/usr/lib/x86_64-linux-gnu/libLLVM-19.so}
 OUT=${OUT:-/tmp/bench-vs-embree}
-export ANCHORS_OUT=$OUT
-mkdir -p "$OUT"
-if [ $# -eq 0 ]; then
-  cargo build --release -p penumbra-cli
-  set -- "$PWD/target/release/penumbra"
-fi
+source scripts/anchors-env.sh
 "$1" bench --spp 0 --write-mesh "$OUT/mesh.obj" >/dev/null
 cat > "$OUT/scene.json" <<JSON
 {"name": "benchsphere", "units": "m",

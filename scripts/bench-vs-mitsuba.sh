@@ -16,17 +16,9 @@
 # summary.txt.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-ANCHORS=$(cd ../shared/anchors && pwd)
-REFERENCE=$(cd ../shared/reference && pwd)
-PY=${PY:-/opt/anchors-venv/bin/python}
-export DRJIT_LIBLLVM_PATH=${DRJIT_LIBLLVM_PATH:-/usr/lib/x86_64-linux-gnu/libLLVM-19.so}
 OUT=${OUT:-/tmp/bench-vs-mitsuba}
-export ANCHORS_OUT=$OUT
-mkdir -p "$OUT"
-if [ $# -eq 0 ]; then
-  cargo build --release -p penumbra-cli
-  set -- "$PWD/target/release/penumbra"
-fi
+source scripts/anchors-env.sh
+REFERENCE=$(cd ../shared/reference && pwd)
 GLASS=$PWD/crates/penumbra-trace/tests/data/cornell-glass
 CORNELL=$REFERENCE/cornell
 : > "$OUT/results.jsonl"
