@@ -7,14 +7,17 @@
 //! are dropped. Occlusion rays push without sorting and stop at the first
 //! hit. On trees larger than the caches, each node's entered children are
 //! prefetched as they are sorted or pushed, so that their cache misses overlap
-//! (memory-level parallelism) instead of coming one after another. The
-//! same code is compiled twice: portable (LLVM picks the vector
-//! width it may) and for AVX2, chosen at run time; both make the same
-//! IEEE operations in the same order, so they find the same hits.
+//! (memory-level parallelism) instead of coming one after another. A
+//! leaf's triangles (up to four, one block) are tested at once by the
+//! 4-lane test of `block.rs` in the AVX2 kernel, one by one in the
+//! portable kernel. The same code is compiled twice: portable (LLVM picks
+//! the vector width it may) and for AVX2, chosen at run time; both make
+//! the same IEEE operations in the same order, so they find the same hits.
 //!
-//! The one module of the crate with `unsafe` code: calling the AVX2
-//! functions (after the CPU check) and the uninitialised traversal stack
-//! (zeroing 2 KB per ray would cost more than a node test).
+//! One of the crate's two modules with `unsafe` code (the other is
+//! `block.rs`, for its SSE intrinsics): calling the AVX2 functions (after
+//! the CPU check) and the uninitialised traversal stack (zeroing 2 KB per
+//! ray would cost more than a node test).
 #![allow(unsafe_code)]
 
 use super::block::{LANES, TriangleBlock};
