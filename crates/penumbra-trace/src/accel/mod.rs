@@ -233,7 +233,7 @@ impl Accel {
     /// than the recorded depth (the stack bound), and the lanes past each
     /// leaf's count are padding. Returns a description of the first problem.
     pub fn validate(&self) -> Result<(), String> {
-        if self.blocks.is_empty() {
+        if self.triangle_count == 0 {
             return Ok(());
         }
         if self.primitive_indices.len() != self.blocks.len() * LANES {

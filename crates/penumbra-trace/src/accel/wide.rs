@@ -131,7 +131,7 @@ impl Wide {
         for node in &mut self.nodes {
             for slot in 0..WIDTH {
                 let code = node.child[slot];
-                if node.used(slot) && code & LEAF_BIT != 0 {
+                if code & LEAF_BIT != 0 {
                     let (first, count) = leaf_parts(code);
                     node.child[slot] = leaf_code(start(first, count), count as u32);
                 }
