@@ -281,6 +281,28 @@ fn block_hits<const AVX2: bool>(
     None
 }
 
+/// The hit of `block`'s `lane` within (0, `tmax`): from the 4-lane test's
+/// `hits` (made with a `tmax` at least this one), or the scalar test's
+/// where there are none.
+#[inline(always)]
+fn lane_hit(
+    q: &Query,
+    block: &TriangleBlock,
+    hits: &Option<super::block::BlockHits>,
+    lane: usize,
+    tmax: f32,
+) -> Option<TriangleHit> {
+    match hits {
+        Some(h) => (h.mask >> lane & 1 != 0)
+            .then(|| h.within(lane, tmax))
+            .flatten(),
+        None => {
+            let [v0, v1, v2] = block.triangle(lane);
+            q.triangles.intersect_a(v0, v1, v2, tmax)
+        }
+    }
+}
+
 /// Closest accepted hit in (0, tmax): the leaf-order triangle index and
 /// the hit. `keep(i, b1, b2)` filters hits (any-hit test).
 #[inline(always)]
@@ -297,31 +319,14 @@ fn closest<const AVX2: bool>(
         if code & LEAF_BIT != 0 {
             let (b, count) = leaf_parts(code);
             let block = &q.blocks[b];
-            match block_hits::<AVX2>(q, block, count, best_t) {
-                Some(hits) => {
-                    let mut m = hits.mask;
-                    while m != 0 {
-                        let lane = m.trailing_zeros() as usize;
-                        m &= m - 1;
-                        // An earlier lane may have brought `best_t` closer.
-                        if let Some(h) = hits.within(lane, best_t)
-                            && keep(LANES * b + lane, h.b1, h.b2)
-                        {
-                            best_t = h.t;
-                            best = Some((LANES * b + lane, h));
-                        }
-                    }
-                }
-                None => {
-                    for lane in 0..count {
-                        let [v0, v1, v2] = block.triangle(lane);
-                        if let Some(h) = q.triangles.intersect_a(v0, v1, v2, best_t)
-                            && keep(LANES * b + lane, h.b1, h.b2)
-                        {
-                            best_t = h.t;
-                            best = Some((LANES * b + lane, h));
-                        }
-                    }
+            let hits = block_hits::<AVX2>(q, block, count, best_t);
+            for lane in 0..count {
+                // An earlier lane may have brought `best_t` closer.
+                if let Some(h) = lane_hit(q, block, &hits, lane, best_t)
+                    && keep(LANES * b + lane, h.b1, h.b2)
+                {
+                    best_t = h.t;
+                    best = Some((LANES * b + lane, h));
                 }
             }
         } else {
@@ -391,29 +396,12 @@ fn any<const AVX2: bool>(
         if code & LEAF_BIT != 0 {
             let (b, count) = leaf_parts(code);
             let block = &q.blocks[b];
-            let i = |lane: usize| LANES * b + lane;
-            match block_hits::<AVX2>(q, block, count, q.tmax) {
-                Some(hits) => {
-                    let mut m = hits.mask;
-                    while m != 0 {
-                        let lane = m.trailing_zeros() as usize;
-                        m &= m - 1;
-                        if let Some(h) = hits.within(lane, q.tmax)
-                            && keep(i(lane), h.b1, h.b2)
-                        {
-                            return true;
-                        }
-                    }
-                }
-                None => {
-                    for lane in 0..count {
-                        let [v0, v1, v2] = block.triangle(lane);
-                        if let Some(h) = q.triangles.intersect_a(v0, v1, v2, q.tmax)
-                            && keep(i(lane), h.b1, h.b2)
-                        {
-                            return true;
-                        }
-                    }
+            let hits = block_hits::<AVX2>(q, block, count, q.tmax);
+            for lane in 0..count {
+                if let Some(h) = lane_hit(q, block, &hits, lane, q.tmax)
+                    && keep(LANES * b + lane, h.b1, h.b2)
+                {
+                    return true;
                 }
             }
         } else {
