@@ -328,7 +328,14 @@ fn bench_json_lines() {
     );
     assert!(o.status.success(), "{}", stderr(&o));
     let out = String::from_utf8_lossy(&o.stdout);
-    for measure in ["build", "coherent", "incoherent", "path"] {
+    for measure in [
+        "build",
+        "coherent",
+        "coherent-interleaved",
+        "incoherent",
+        "incoherent-interleaved",
+        "path",
+    ] {
         let line = out
             .lines()
             .find(|l| l.contains(&format!("\"measure\":\"{measure}\"")))
@@ -339,7 +346,7 @@ fn bench_json_lines() {
         );
     }
     assert!(
-        out.lines().filter(|l| l.contains("mrays_per_s")).count() == 2,
+        out.lines().filter(|l| l.contains("mrays_per_s")).count() == 4,
         "{out}"
     );
 }

@@ -73,17 +73,36 @@ pub fn incoherent_rays(
         .collect()
 }
 
+/// How a measurement traces its rays.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Tracing {
+    /// [`Accel::intersect`], one ray after another.
+    OneAtATime,
+    /// [`Accel::intersect_many`]: a few rays' walks interleaved per thread.
+    Interleaved,
+}
+
 /// Traces every ray for its closest hit, in parallel chunks; returns the
 /// timing and the number of hits.
-pub fn measure_closest_hit(accel: &Accel, rays: &[Ray], name: &'static str) -> Measure {
+pub fn measure_closest_hit(
+    accel: &Accel,
+    rays: &[Ray],
+    name: &'static str,
+    tracing: Tracing,
+) -> Measure {
     let t = Instant::now();
     let hits: u64 = rays
         .par_chunks(4096)
-        .map(|chunk| {
-            chunk
+        .map(|chunk| match tracing {
+            Tracing::OneAtATime => chunk
                 .iter()
                 .filter(|r| accel.intersect(r).is_some())
-                .count() as u64
+                .count() as u64,
+            Tracing::Interleaved => {
+                let mut hits = vec![None; chunk.len()];
+                accel.intersect_many(chunk, &mut hits);
+                hits.iter().filter(|h| h.is_some()).count() as u64
+            }
         })
         .sum();
     Measure {

@@ -1,7 +1,8 @@
 //! Every traversal kernel the CPU runs finds the same closest hit as a
-//! brute-force loop over all triangles, with and without prefetching, on
-//! the benchmark mesh, for coherent
-//! (camera) and incoherent (random directions from surface points) rays.
+//! brute-force loop over all triangles, with and without prefetching, one
+//! ray at a time and with walks interleaved, on the benchmark mesh, for
+//! coherent (camera) and incoherent (random directions from surface
+//! points) rays.
 
 use glam::Vec3;
 use penumbra_shading::sampling::{Sampler, square_to_uniform_sphere};
@@ -76,6 +77,16 @@ fn kernels_match_brute_force_on_the_bench_mesh() {
                     accel.occluded(ray),
                     e.is_some(),
                     "{kernel:?} prefetch {prefetch} {ray:?}"
+                );
+            }
+            // The same rays with their walks interleaved.
+            let mut hits = vec![None; rays.len()];
+            accel.intersect_many(&rays, &mut hits);
+            for ((hit, e), ray) in hits.iter().zip(&expected).zip(&rays) {
+                let got = hit.map(|h| (h.triangle, h.t));
+                assert_eq!(
+                    got, *e,
+                    "{kernel:?} prefetch {prefetch} interleaved {ray:?}"
                 );
             }
         }

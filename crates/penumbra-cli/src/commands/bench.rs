@@ -1,5 +1,6 @@
 //! `penumbra bench`: BVH build rate, closest-hit throughput for coherent and
-//! incoherent rays, and path-tracing speed; with `--engine raster`, GPU time
+//! incoherent rays (traced one at a time, and a few interleaved per
+//! thread), and path-tracing speed; with `--engine raster`, GPU time
 //! per pass of the raster path (commands/bench_raster.rs).
 
 use crate::commands::bench_raster::{self, RasterBench};
@@ -13,8 +14,8 @@ use penumbra_shading::Rgb;
 use penumbra_shading::light::{DirectionalLight, Light};
 use penumbra_trace::accel::BuildQuality;
 use penumbra_trace::bench::{
-    Measure, bench_mesh, camera_rays, incoherent_rays, measure_closest_hit, parse_ray_file,
-    write_obj, write_ray_file,
+    Measure, Tracing, bench_mesh, camera_rays, incoherent_rays, measure_closest_hit,
+    parse_ray_file, write_obj, write_ray_file,
 };
 use penumbra_trace::geometry::SceneGeometry;
 use penumbra_trace::{RenderOptions, render, scene_camera};
@@ -177,7 +178,7 @@ fn report(m: &Measure, json: bool, unit: &str) {
             )
         };
         println!(
-            "{:<12} {:>10.4} s  {:>9.3} {unit}  ({} items{hits})",
+            "{:<22} {:>10.4} s  {:>9.3} {unit}  ({} items{hits})",
             m.name,
             m.seconds,
             m.millions_per_second(),
@@ -334,11 +335,16 @@ fn run_measures(args: &BenchArgs, scene: &Scene, load: Option<Measure>) -> Resul
             .with_context(|| format!("cannot read ray file {}", path.display()))?;
         let rays =
             parse_ray_file(&bytes).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
-        report(
-            &measure_closest_hit(accel, &rays, "file"),
-            args.json,
-            "Mrays/s",
-        );
+        for (name, tracing) in [
+            ("file", Tracing::OneAtATime),
+            ("file-interleaved", Tracing::Interleaved),
+        ] {
+            report(
+                &measure_closest_hit(accel, &rays, name, tracing),
+                args.json,
+                "Mrays/s",
+            );
+        }
         return Ok(());
     }
     let camera = scene_camera(scene);
@@ -352,17 +358,24 @@ fn run_measures(args: &BenchArgs, scene: &Scene, load: Option<Measure>) -> Resul
         }
     }
     // Warm up caches once, then measure.
-    measure_closest_hit(accel, &coherent[..coherent.len().min(65_536)], "warmup");
-    report(
-        &measure_closest_hit(accel, &coherent, "coherent"),
-        args.json,
-        "Mrays/s",
+    measure_closest_hit(
+        accel,
+        &coherent[..coherent.len().min(65_536)],
+        "warmup",
+        Tracing::OneAtATime,
     );
-    report(
-        &measure_closest_hit(accel, &incoherent, "incoherent"),
-        args.json,
-        "Mrays/s",
-    );
+    for (rays, name, tracing) in [
+        (&coherent, "coherent", Tracing::OneAtATime),
+        (&coherent, "coherent-interleaved", Tracing::Interleaved),
+        (&incoherent, "incoherent", Tracing::OneAtATime),
+        (&incoherent, "incoherent-interleaved", Tracing::Interleaved),
+    ] {
+        report(
+            &measure_closest_hit(accel, rays, name, tracing),
+            args.json,
+            "Mrays/s",
+        );
+    }
     // The path measurement builds its own BVH: release the ray sets and
     // this one first so peak memory is that of one render.
     drop((coherent, incoherent, geometry));

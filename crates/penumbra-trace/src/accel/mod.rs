@@ -192,6 +192,36 @@ impl Accel {
         })
     }
 
+    /// Closest hits of many rays: `hits[i]` is [`Accel::intersect`] of
+    /// `rays[i]`. The walks of a few rays are interleaved, so that one
+    /// ray's cache misses overlap the others' (faster on trees larger than
+    /// the caches, with incoherent rays).
+    ///
+    /// # Panics
+    /// If `hits` and `rays` differ in length.
+    pub fn intersect_many(&self, rays: &[Ray], hits: &mut [Option<Hit>]) {
+        assert_eq!(rays.len(), hits.len(), "one hit per ray");
+        if self.blocks.is_empty() {
+            hits.fill(None);
+            return;
+        }
+        let query = |i: usize| self.query(&rays[i]);
+        let mut found = |i: usize, hit: Option<(usize, TriangleHit)>| {
+            hits[i] = hit.map(|(slot, h)| Hit {
+                triangle: self.primitive_indices[slot],
+                t: h.t,
+                b1: h.b1,
+                b2: h.b2,
+            });
+        };
+        if traverse::closest_hits(self.kernel, &self.wide, rays.len(), &query, &mut found).is_none()
+        {
+            for (hit, ray) in hits.iter_mut().zip(rays) {
+                *hit = self.intersect(ray);
+            }
+        }
+    }
+
     /// True if anything lies along `ray` in (0, ray.tmax) (shadow rays).
     #[inline]
     pub fn occluded(&self, ray: &Ray) -> bool {
@@ -418,6 +448,48 @@ mod tests {
         }
     }
 
+    /// `intersect_many` finds each ray's brute-force closest hit and
+    /// exactly `intersect`'s hit (barycentrics too), for every kernel,
+    /// with and without prefetching, whatever the number of rays (fewer
+    /// than the walks in flight, and not a multiple of them), and with
+    /// rays cut short by their tmax mixed in.
+    #[test]
+    fn intersect_many_matches_one_at_a_time() {
+        let (tris, mut rays) = random_soup(2000, 4);
+        for i in (0..rays.len()).step_by(3) {
+            if let Some((_, t)) = brute_force(&tris, &rays[i]) {
+                rays[i].tmax = t * 0.5;
+            }
+        }
+        let expected: Vec<_> = rays.iter().map(|r| brute_force(&tris, r)).collect();
+        assert!(expected.iter().filter(|e| e.is_some()).count() > 100);
+        let mut accel = Accel::build(&tris, BuildQuality::Medium);
+        for (kernel, prefetch) in Kernel::available()
+            .into_iter()
+            .flat_map(|k| [(k, false), (k, true)])
+        {
+            accel.set_kernel(kernel).unwrap();
+            accel.set_prefetch(prefetch);
+            for n in [0, 1, 2, 3, 5, 9, rays.len()] {
+                let mut hits = vec![
+                    Some(Hit {
+                        triangle: 7,
+                        t: 1.0,
+                        b1: 0.0,
+                        b2: 0.0
+                    });
+                    n
+                ];
+                accel.intersect_many(&rays[..n], &mut hits);
+                for (i, (hit, ray)) in hits.iter().zip(&rays).enumerate() {
+                    let found = hit.map(|h| (h.triangle, h.t));
+                    assert_eq!(found, expected[i], "{kernel:?} {prefetch} n {n} ray {i}");
+                    assert_eq!(*hit, accel.intersect(ray), "{kernel:?} {prefetch} ray {i}");
+                }
+            }
+        }
+    }
+
     /// Rays with a short tmax see only hits before it.
     #[test]
     fn hits_stop_at_tmax() {
@@ -449,6 +521,10 @@ mod tests {
             assert_eq!(accel.intersect(r), *h);
             assert_eq!(accel.occluded(r), h.is_some());
         }
+        let mut many = vec![None; rays.len()];
+        accel.intersect_many(&rays, &mut many);
+        assert_eq!(many, inline);
+        assert!(inline.iter().any(Option::is_some));
     }
 
     /// `validate` reports a box that no longer holds what is below it.
@@ -786,6 +862,14 @@ mod tests {
         let a = Accel::build(&[], BuildQuality::Fast);
         assert!(a.intersect(&Ray::new(Vec3::ZERO, Vec3::X)).is_none());
         assert!(!a.occluded(&Ray::new(Vec3::ZERO, Vec3::X)));
+        let mut hits = [Some(Hit {
+            triangle: 0,
+            t: 1.0,
+            b1: 0.0,
+            b2: 0.0,
+        })];
+        a.intersect_many(&[Ray::new(Vec3::ZERO, Vec3::X)], &mut hits);
+        assert_eq!(hits, [None]);
     }
 }
 

@@ -303,40 +303,61 @@ fn lane_hit(
     }
 }
 
-/// Closest accepted hit in (0, tmax): the leaf-order triangle index and
-/// the hit. `keep(i, b1, b2)` filters hits (any-hit test).
-#[inline(always)]
-fn closest<const AVX2: bool>(
-    q: &Query,
-    keep: &impl Fn(usize, f32, f32) -> bool,
-    stack: &mut [MaybeUninit<Entry>],
-) -> Option<(usize, TriangleHit)> {
-    let mut sp = 0;
-    let mut best: Option<(usize, TriangleHit)> = None;
-    let mut best_t = q.tmax;
-    let mut code = 0u32;
-    loop {
-        if code & LEAF_BIT != 0 {
-            let (b, count) = leaf_parts(code);
+/// A closest-hit traversal in progress: the node or leaf it visits next,
+/// the depth of its stack, and the closest accepted hit so far. One
+/// [`Walk::step`] visits one node or leaf, so several rays' walks can be
+/// interleaved ([`closest_many`]).
+struct Walk {
+    code: u32,
+    sp: usize,
+    best: Option<(usize, TriangleHit)>,
+    best_t: f32,
+}
+
+impl Walk {
+    /// A walk that starts at the root.
+    #[inline(always)]
+    fn new(q: &Query) -> Self {
+        Walk {
+            code: 0,
+            sp: 0,
+            best: None,
+            best_t: q.tmax,
+        }
+    }
+
+    /// Visits the node or leaf `self.code` and moves to the next one to
+    /// visit: the nearest child entered, or the nearest deferred subtree
+    /// not beyond the closest hit so far. False when none is left: `best`
+    /// is then the closest accepted hit in (0, tmax).
+    #[inline(always)]
+    fn step<const AVX2: bool>(
+        &mut self,
+        q: &Query,
+        keep: &impl Fn(usize, f32, f32) -> bool,
+        stack: &mut [MaybeUninit<Entry>],
+    ) -> bool {
+        if self.code & LEAF_BIT != 0 {
+            let (b, count) = leaf_parts(self.code);
             let block = &q.blocks[b];
-            let hits = block_hits::<AVX2>(q, block, count, best_t);
+            let hits = block_hits::<AVX2>(q, block, count, self.best_t);
             for lane in 0..count {
                 // An earlier lane may have brought `best_t` closer.
-                if let Some(h) = lane_hit(q, block, &hits, lane, best_t)
+                if let Some(h) = lane_hit(q, block, &hits, lane, self.best_t)
                     && keep(LANES * b + lane, h.b1, h.b2)
                 {
-                    best_t = h.t;
-                    best = Some((LANES * b + lane, h));
+                    self.best_t = h.t;
+                    self.best = Some((LANES * b + lane, h));
                 }
             }
         } else {
-            let node = &q.wide.nodes[code as usize];
+            let node = &q.wide.nodes[self.code as usize];
             let mut t = [0.0; WIDTH];
-            let mask = slab::<AVX2>(node, &q.boxes, best_t, &mut t);
+            let mask = slab::<AVX2>(node, &q.boxes, self.best_t, &mut t);
             if mask != 0 {
                 if mask & (mask - 1) == 0 {
-                    code = node.child[mask.trailing_zeros() as usize];
-                    continue;
+                    self.code = node.child[mask.trailing_zeros() as usize];
+                    return true;
                 }
                 // Hit slots sorted by decreasing entry distance.
                 let mut hits = [Entry { code: 0, t: 0.0 }; WIDTH];
@@ -361,23 +382,81 @@ fn closest<const AVX2: bool>(
                     n += 1;
                 }
                 for &e in &hits[..n - 1] {
-                    stack[sp] = MaybeUninit::new(e);
-                    sp += 1;
+                    stack[self.sp] = MaybeUninit::new(e);
+                    self.sp += 1;
                 }
-                code = hits[n - 1].code;
-                continue;
+                self.code = hits[n - 1].code;
+                return true;
             }
         }
         loop {
-            if sp == 0 {
-                return best;
+            if self.sp == 0 {
+                return false;
             }
-            sp -= 1;
+            self.sp -= 1;
             // SAFETY: entries below `sp` were written above.
-            let e = unsafe { stack[sp].assume_init() };
-            if e.t <= best_t {
-                code = e.code;
-                break;
+            let e = unsafe { stack[self.sp].assume_init() };
+            if e.t <= self.best_t {
+                self.code = e.code;
+                return true;
+            }
+        }
+    }
+}
+
+/// Closest accepted hit in (0, tmax): the leaf-order triangle index and
+/// the hit. `keep(i, b1, b2)` filters hits (any-hit test).
+#[inline(always)]
+fn closest<const AVX2: bool>(
+    q: &Query,
+    keep: &impl Fn(usize, f32, f32) -> bool,
+    stack: &mut [MaybeUninit<Entry>],
+) -> Option<(usize, TriangleHit)> {
+    let mut walk = Walk::new(q);
+    while walk.step::<AVX2>(q, keep, stack) {}
+    walk.best
+}
+
+/// Rays whose walks [`closest_many`] interleaves on one thread.
+const IN_FLIGHT: usize = 4;
+
+/// Closest hits of `count` rays (`query(i)` sets up ray `i`), handed to
+/// `found(i, hit)` in the order the walks end. Up to [`IN_FLIGHT`] walks
+/// advance in turn, one node or leaf each: a walk's next node, prefetched
+/// as it was entered, arrives from memory while the others take their
+/// steps, so the rays' cache misses overlap instead of following one
+/// another. Each ray's walk is the one [`closest`] makes, so its hit is
+/// the same. The tree must fit [`STACK_INLINE`] (see `with_stack!`).
+#[inline(always)]
+fn closest_many<'a, const AVX2: bool>(
+    count: usize,
+    query: &impl Fn(usize) -> Query<'a>,
+    found: &mut impl FnMut(usize, Option<(usize, TriangleHit)>),
+) {
+    let keep = |_, _, _| true;
+    let mut stacks = [[const { MaybeUninit::<Entry>::uninit() }; STACK_INLINE]; IN_FLIGHT];
+    let start = |i: usize| {
+        let q = query(i);
+        let walk = Walk::new(&q);
+        (i, q, walk)
+    };
+    let mut lanes: [Option<(usize, Query<'a>, Walk)>; IN_FLIGHT] =
+        std::array::from_fn(|k| (k < count).then(|| start(k)));
+    let mut next = IN_FLIGHT.min(count);
+    let mut live = next;
+    while live > 0 {
+        for (lane, stack) in lanes.iter_mut().zip(&mut stacks) {
+            let Some((i, q, walk)) = lane else { continue };
+            if walk.step::<AVX2>(q, &keep, stack) {
+                continue;
+            }
+            found(*i, walk.best);
+            if next < count {
+                *lane = Some(start(next));
+                next += 1;
+            } else {
+                *lane = None;
+                live -= 1;
             }
         }
     }
@@ -443,6 +522,38 @@ fn closest_avx2(
 #[target_feature(enable = "avx2")]
 fn any_avx2(q: &Query, keep: &impl Fn(usize, f32, f32) -> bool) -> bool {
     with_stack!(q.wide, s => any::<true>(q, keep, s))
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn closest_many_avx2<'a>(
+    count: usize,
+    query: &impl Fn(usize) -> Query<'a>,
+    found: &mut impl FnMut(usize, Option<(usize, TriangleHit)>),
+) {
+    closest_many::<true>(count, query, found)
+}
+
+/// Closest hits of `count` rays with `kernel` (which this CPU must
+/// support), several walks interleaved ([`closest_many`]); `None` (nothing
+/// traced) where the tree is too deep for the walks' inline stacks.
+pub(super) fn closest_hits<'a>(
+    kernel: Kernel,
+    wide: &Wide,
+    count: usize,
+    query: &impl Fn(usize) -> Query<'a>,
+    found: &mut impl FnMut(usize, Option<(usize, TriangleHit)>),
+) -> Option<()> {
+    if (WIDTH - 1) * wide.depth + 1 > STACK_INLINE {
+        return None;
+    }
+    match kernel {
+        // SAFETY: `kernel` is supported (the caller's contract).
+        #[cfg(target_arch = "x86_64")]
+        Kernel::Avx2 => unsafe { closest_many_avx2(count, query, found) },
+        _ => closest_many::<false>(count, query, found),
+    }
+    Some(())
 }
 
 /// Closest accepted hit with `kernel` (which this CPU must support).
