@@ -527,6 +527,49 @@ mod tests {
         assert!(inline.iter().any(Option::is_some));
     }
 
+    /// A genuinely deep tree (triangles at geometrically growing distances
+    /// along x make a caterpillar-like BVH, deeper than the inline stacks
+    /// hold): one ray at a time and `intersect_many` traverse it with heap
+    /// stacks and find the brute-force hits.
+    #[test]
+    fn deep_trees_use_heap_stacks() {
+        let tris: Vec<[Vec3; 3]> = (0..3000)
+            .map(|i| {
+                let x = 1.025f32.powi(i);
+                let s = x * 0.01;
+                [
+                    Vec3::new(x, -s, -s),
+                    Vec3::new(x, s, -s),
+                    Vec3::new(x, 0.0, s),
+                ]
+            })
+            .collect();
+        let accel = Accel::build(&tris, BuildQuality::Medium);
+        accel.validate().unwrap();
+        let depth = accel.wide.depth;
+        assert!(
+            (wide::WIDTH - 1) * depth + 1 > 256,
+            "not deep enough: {depth}"
+        );
+        let rays: Vec<Ray> = (0..42)
+            .map(|i| {
+                let o = Vec3::new(0.5 * 1.025f32.powi(i * 20), 0.001, 0.0);
+                let d = if i % 2 == 0 { Vec3::X } else { -Vec3::X };
+                Ray::new(o, d)
+            })
+            .collect();
+        let mut many = vec![None; rays.len()];
+        accel.intersect_many(&rays, &mut many);
+        let mut hits = 0;
+        for (ray, hit) in rays.iter().zip(&many) {
+            let expected = brute_force(&tris, ray);
+            assert_eq!(accel.intersect(ray).map(|h| (h.triangle, h.t)), expected);
+            assert_eq!(hit.map(|h| (h.triangle, h.t)), expected);
+            hits += expected.is_some() as usize;
+        }
+        assert!(hits >= 40, "{hits} hits");
+    }
+
     /// `validate` reports a box that no longer holds what is below it.
     #[test]
     fn validate_finds_a_shrunk_box() {
