@@ -332,8 +332,10 @@ fn bench_json_lines() {
         "build",
         "coherent",
         "coherent-interleaved",
+        "coherent-packets",
         "incoherent",
         "incoherent-interleaved",
+        "incoherent-packets",
         "path",
     ] {
         let line = out
@@ -346,7 +348,7 @@ fn bench_json_lines() {
         );
     }
     assert!(
-        out.lines().filter(|l| l.contains("mrays_per_s")).count() == 4,
+        out.lines().filter(|l| l.contains("mrays_per_s")).count() == 6,
         "{out}"
     );
 }

@@ -80,6 +80,8 @@ pub enum Tracing {
     OneAtATime,
     /// [`Accel::intersect_many`]: a few rays' walks interleaved per thread.
     Interleaved,
+    /// [`Accel::intersect_packets`]: consecutive rays in packets.
+    Packets,
 }
 
 /// Traces every ray for its closest hit, in parallel chunks; returns the
@@ -98,9 +100,13 @@ pub fn measure_closest_hit(
                 .iter()
                 .filter(|r| accel.intersect(r).is_some())
                 .count() as u64,
-            Tracing::Interleaved => {
+            Tracing::Interleaved | Tracing::Packets => {
                 let mut hits = vec![None; chunk.len()];
-                accel.intersect_many(chunk, &mut hits);
+                if tracing == Tracing::Packets {
+                    accel.intersect_packets(chunk, &mut hits);
+                } else {
+                    accel.intersect_many(chunk, &mut hits);
+                }
                 hits.iter().filter(|h| h.is_some()).count() as u64
             }
         })

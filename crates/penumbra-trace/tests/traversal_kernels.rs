@@ -1,12 +1,12 @@
 //! Every traversal kernel the CPU runs finds the same closest hit as a
 //! brute-force loop over all triangles, with and without prefetching, one
-//! ray at a time and with walks interleaved, on the benchmark mesh, for
-//! coherent (camera) and incoherent (random directions from surface
-//! points) rays.
+//! ray at a time, with walks interleaved and in packets, on the benchmark
+//! mesh, for coherent (camera) and incoherent (random directions from
+//! surface points) rays.
 
 use glam::Vec3;
 use penumbra_shading::sampling::{Sampler, square_to_uniform_sphere};
-use penumbra_trace::accel::{Accel, BuildQuality, Kernel, WatertightRay};
+use penumbra_trace::accel::{Accel, BuildQuality, Hit, Kernel, WatertightRay};
 use penumbra_trace::ray::{Ray, offset_ray_origin};
 
 /// Closest hit by testing every triangle: (triangle, t).
@@ -79,15 +79,20 @@ fn kernels_match_brute_force_on_the_bench_mesh() {
                     "{kernel:?} prefetch {prefetch} {ray:?}"
                 );
             }
-            // The same rays with their walks interleaved.
-            let mut hits = vec![None; rays.len()];
-            accel.intersect_many(&rays, &mut hits);
-            for ((hit, e), ray) in hits.iter().zip(&expected).zip(&rays) {
-                let got = hit.map(|h| (h.triangle, h.t));
-                assert_eq!(
-                    got, *e,
-                    "{kernel:?} prefetch {prefetch} interleaved {ray:?}"
-                );
+            // The same rays with their walks interleaved, and in packets
+            // (coherent ones first, then packets of incoherent rays).
+            type Batch = fn(&Accel, &[Ray], &mut [Option<Hit>]);
+            let batches: [(&str, Batch); 2] = [
+                ("interleaved", Accel::intersect_many),
+                ("packets", Accel::intersect_packets),
+            ];
+            for (name, batch) in batches {
+                let mut hits = vec![None; rays.len()];
+                batch(&accel, &rays, &mut hits);
+                for ((hit, e), ray) in hits.iter().zip(&expected).zip(&rays) {
+                    let got = hit.map(|h| (h.triangle, h.t));
+                    assert_eq!(got, *e, "{kernel:?} prefetch {prefetch} {name} {ray:?}");
+                }
             }
         }
     }

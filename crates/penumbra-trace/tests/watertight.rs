@@ -1,6 +1,6 @@
 //! Watertightness: rays from inside a closed mesh aimed exactly at its shared
 //! edges and vertices never escape, with every traversal kernel the CPU
-//! runs.
+//! runs, one ray at a time, interleaved and in packets.
 
 use glam::Vec3;
 use penumbra_shading::sampling::Sampler;
@@ -18,18 +18,33 @@ fn a_million_rays_at_edges_and_vertices_never_pass_through() {
         .collect();
     let mut accel = Accel::build(&tris, BuildQuality::Medium);
     accel.validate().unwrap();
+    let rays = rays_at_edges_and_vertices(&tris);
     for kernel in Kernel::available() {
         accel.set_kernel(kernel).unwrap();
-        assert_eq!(rays_escaping(&accel, &tris), 0, "{kernel:?}");
+        let alone = rays.iter().filter(|r| accel.intersect(r).is_none()).count();
+        assert_eq!(alone, 0, "{kernel:?}");
+        let mut hits = vec![None; rays.len()];
+        accel.intersect_many(&rays, &mut hits);
+        assert_eq!(
+            hits.iter().filter(|h| h.is_none()).count(),
+            0,
+            "{kernel:?} interleaved"
+        );
+        hits.fill(None);
+        accel.intersect_packets(&rays, &mut hits);
+        assert_eq!(
+            hits.iter().filter(|h| h.is_none()).count(),
+            0,
+            "{kernel:?} packets"
+        );
     }
 }
 
-/// Of a million rays from inside aimed at the edges and vertices of `tris`,
-/// the number that find no hit.
-fn rays_escaping(accel: &Accel, tris: &[[Vec3; 3]]) -> u32 {
+/// A million rays from inside aimed at the edges and vertices of `tris`.
+fn rays_at_edges_and_vertices(tris: &[[Vec3; 3]]) -> Vec<Ray> {
     let centre = Vec3::new(100.0, -20.0, 3.0);
     let n_rays = 1_000_000u32;
-    let mut misses = 0;
+    let mut rays = Vec::with_capacity(n_rays as usize);
     for i in 0..n_rays {
         let mut s = Sampler::new(i, 0, 0, 11);
         let [u, v] = s.next_2d();
@@ -48,9 +63,7 @@ fn rays_escaping(accel: &Accel, tris: &[[Vec3; 3]]) -> u32 {
         if d.length_squared() == 0.0 {
             continue;
         }
-        if accel.intersect(&Ray::new(o, d.normalize())).is_none() {
-            misses += 1;
-        }
+        rays.push(Ray::new(o, d.normalize()));
     }
-    misses
+    rays
 }

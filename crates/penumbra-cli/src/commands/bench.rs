@@ -1,6 +1,6 @@
 //! `penumbra bench`: BVH build rate, closest-hit throughput for coherent and
-//! incoherent rays (traced one at a time, and a few interleaved per
-//! thread), and path-tracing speed; with `--engine raster`, GPU time
+//! incoherent rays (traced one at a time, a few interleaved per thread,
+//! and in packets), and path-tracing speed; with `--engine raster`, GPU time
 //! per pass of the raster path (commands/bench_raster.rs).
 
 use crate::commands::bench_raster::{self, RasterBench};
@@ -338,6 +338,7 @@ fn run_measures(args: &BenchArgs, scene: &Scene, load: Option<Measure>) -> Resul
         for (name, tracing) in [
             ("file", Tracing::OneAtATime),
             ("file-interleaved", Tracing::Interleaved),
+            ("file-packets", Tracing::Packets),
         ] {
             report(
                 &measure_closest_hit(accel, &rays, name, tracing),
@@ -367,8 +368,10 @@ fn run_measures(args: &BenchArgs, scene: &Scene, load: Option<Measure>) -> Resul
     for (rays, name, tracing) in [
         (&coherent, "coherent", Tracing::OneAtATime),
         (&coherent, "coherent-interleaved", Tracing::Interleaved),
+        (&coherent, "coherent-packets", Tracing::Packets),
         (&incoherent, "incoherent", Tracing::OneAtATime),
         (&incoherent, "incoherent-interleaved", Tracing::Interleaved),
+        (&incoherent, "incoherent-packets", Tracing::Packets),
     ] {
         report(
             &measure_closest_hit(accel, rays, name, tracing),

@@ -1,10 +1,12 @@
 //! Acceleration structure: an 8-wide BVH of uncompressed fp32 nodes
 //! (`wide.rs`), collapsed from a binary BVH that `obvhs` builds with PLOC +
 //! reinsertion, over world-space triangles; traversed one ray at a time with
-//! 8-lane box tests (`traverse.rs`, AVX2 where the CPU has it) and our
+//! 8-lane box tests (`traverse.rs`, AVX2 where the CPU has it), several
+//! rays' walks interleaved, or rays in packets (`packet.rs`), with our
 //! watertight triangle test.
 
 mod block;
+mod packet;
 mod traverse;
 mod watertight;
 mod wide;
@@ -183,13 +185,19 @@ impl Accel {
             return None;
         }
         let keep = |i: usize, b1, b2| keep(self.primitive_indices[i], b1, b2);
-        let (i, h) = traverse::closest_hit(self.kernel, &self.query(ray), &keep)?;
-        Some(Hit {
-            triangle: self.primitive_indices[i],
+        let (slot, h) = traverse::closest_hit(self.kernel, &self.query(ray), &keep)?;
+        Some(self.hit(slot, h))
+    }
+
+    /// The hit of triangle slot `slot` (leaf order) as the caller sees it.
+    #[inline]
+    fn hit(&self, slot: usize, h: TriangleHit) -> Hit {
+        Hit {
+            triangle: self.primitive_indices[slot],
             t: h.t,
             b1: h.b1,
             b2: h.b2,
-        })
+        }
     }
 
     /// Closest hits of many rays: `hits[i]` is [`Accel::intersect`] of
@@ -207,12 +215,7 @@ impl Accel {
         }
         let query = |i: usize| self.query(&rays[i]);
         let mut found = |i: usize, hit: Option<(usize, TriangleHit)>| {
-            hits[i] = hit.map(|(slot, h)| Hit {
-                triangle: self.primitive_indices[slot],
-                t: h.t,
-                b1: h.b1,
-                b2: h.b2,
-            });
+            hits[i] = hit.map(|(slot, h)| self.hit(slot, h));
         };
         if traverse::closest_hits(self.kernel, &self.wide, rays.len(), &query, &mut found).is_none()
         {
@@ -220,6 +223,28 @@ impl Accel {
                 *hit = self.intersect(ray);
             }
         }
+    }
+
+    /// Closest hits of many rays traced in packets of consecutive rays:
+    /// `hits[i]` is `rays[i]`'s closest hit, as [`Accel::intersect`] finds
+    /// it (of two triangles at exactly the same distance, either may be
+    /// reported). Fast where consecutive rays are coherent, such as the
+    /// camera rays of neighbouring pixels; slower than one at a time where
+    /// they are not.
+    ///
+    /// # Panics
+    /// If `hits` and `rays` differ in length.
+    pub fn intersect_packets(&self, rays: &[Ray], hits: &mut [Option<Hit>]) {
+        assert_eq!(rays.len(), hits.len(), "one hit per ray");
+        if self.blocks.is_empty() {
+            hits.fill(None);
+            return;
+        }
+        let query = |i: usize| self.query(&rays[i]);
+        let mut found = |i: usize, hit: Option<(usize, TriangleHit)>| {
+            hits[i] = hit.map(|(slot, h)| self.hit(slot, h));
+        };
+        packet::closest_hits_packets(self.kernel, self.wide.depth, rays.len(), &query, &mut found);
     }
 
     /// True if anything lies along `ray` in (0, ray.tmax) (shadow rays).
@@ -448,13 +473,22 @@ mod tests {
         }
     }
 
-    /// `intersect_many` finds each ray's brute-force closest hit and
-    /// exactly `intersect`'s hit (barycentrics too), for every kernel,
-    /// with and without prefetching, whatever the number of rays (fewer
-    /// than the walks in flight, and not a multiple of them), and with
-    /// rays cut short by their tmax mixed in.
+    /// The batch calls: rays interleaved, and rays in packets.
+    type Batch = fn(&Accel, &[Ray], &mut [Option<Hit>]);
+    const BATCHES: [(&str, Batch); 2] = [
+        ("interleaved", Accel::intersect_many),
+        ("packets", Accel::intersect_packets),
+    ];
+
+    /// `intersect_many` and `intersect_packets` find each ray's
+    /// brute-force closest hit and exactly `intersect`'s hit (barycentrics
+    /// too), for every kernel, with and without prefetching, whatever the
+    /// number of rays (fewer than the walks in flight or a packet's lanes,
+    /// and not a multiple of them), and with rays cut short by their tmax
+    /// mixed in. The soup's random rays make packets whose rays part at
+    /// once and point every way.
     #[test]
-    fn intersect_many_matches_one_at_a_time() {
+    fn batches_match_one_at_a_time() {
         let (tris, mut rays) = random_soup(2000, 4);
         for i in (0..rays.len()).step_by(3) {
             if let Some((_, t)) = brute_force(&tris, &rays[i]) {
@@ -470,21 +504,22 @@ mod tests {
         {
             accel.set_kernel(kernel).unwrap();
             accel.set_prefetch(prefetch);
-            for n in [0, 1, 2, 3, 5, 9, rays.len()] {
-                let mut hits = vec![
-                    Some(Hit {
+            for (name, batch) in BATCHES {
+                for n in [0, 1, 2, 3, 5, 9, 15, 16, 17, 33, rays.len()] {
+                    let stale = Hit {
                         triangle: 7,
                         t: 1.0,
                         b1: 0.0,
-                        b2: 0.0
-                    });
-                    n
-                ];
-                accel.intersect_many(&rays[..n], &mut hits);
-                for (i, (hit, ray)) in hits.iter().zip(&rays).enumerate() {
-                    let found = hit.map(|h| (h.triangle, h.t));
-                    assert_eq!(found, expected[i], "{kernel:?} {prefetch} n {n} ray {i}");
-                    assert_eq!(*hit, accel.intersect(ray), "{kernel:?} {prefetch} ray {i}");
+                        b2: 0.0,
+                    };
+                    let mut hits = vec![Some(stale); n];
+                    batch(&accel, &rays[..n], &mut hits);
+                    for (i, (hit, ray)) in hits.iter().zip(&rays).enumerate() {
+                        let found = hit.map(|h| (h.triangle, h.t));
+                        let why = format!("{name} {kernel:?} {prefetch} n {n} ray {i}");
+                        assert_eq!(found, expected[i], "{why}");
+                        assert_eq!(*hit, accel.intersect(ray), "{why}");
+                    }
                 }
             }
         }
@@ -521,15 +556,17 @@ mod tests {
             assert_eq!(accel.intersect(r), *h);
             assert_eq!(accel.occluded(r), h.is_some());
         }
-        let mut many = vec![None; rays.len()];
-        accel.intersect_many(&rays, &mut many);
-        assert_eq!(many, inline);
+        for (name, batch) in BATCHES {
+            let mut many = vec![None; rays.len()];
+            batch(&accel, &rays, &mut many);
+            assert_eq!(many, inline, "{name}");
+        }
         assert!(inline.iter().any(Option::is_some));
     }
 
     /// A genuinely deep tree (triangles at geometrically growing distances
     /// along x make a caterpillar-like BVH, deeper than the inline stacks
-    /// hold): one ray at a time and `intersect_many` traverse it with heap
+    /// hold): one ray at a time and both batch calls traverse it with heap
     /// stacks and find the brute-force hits.
     #[test]
     fn deep_trees_use_heap_stacks() {
@@ -558,15 +595,18 @@ mod tests {
                 Ray::new(o, d)
             })
             .collect();
-        let mut many = vec![None; rays.len()];
-        accel.intersect_many(&rays, &mut many);
-        let mut hits = 0;
-        for (ray, hit) in rays.iter().zip(&many) {
-            let expected = brute_force(&tris, ray);
-            assert_eq!(accel.intersect(ray).map(|h| (h.triangle, h.t)), expected);
-            assert_eq!(hit.map(|h| (h.triangle, h.t)), expected);
-            hits += expected.is_some() as usize;
+        let expected: Vec<_> = rays.iter().map(|r| brute_force(&tris, r)).collect();
+        for (ray, e) in rays.iter().zip(&expected) {
+            assert_eq!(accel.intersect(ray).map(|h| (h.triangle, h.t)), *e);
         }
+        for (name, batch) in BATCHES {
+            let mut many = vec![None; rays.len()];
+            batch(&accel, &rays, &mut many);
+            for (hit, e) in many.iter().zip(&expected) {
+                assert_eq!(hit.map(|h| (h.triangle, h.t)), *e, "{name}");
+            }
+        }
+        let hits = expected.iter().filter(|e| e.is_some()).count();
         assert!(hits >= 40, "{hits} hits");
     }
 
@@ -852,7 +892,12 @@ mod tests {
             accel.set_prefetch(on);
             assert_eq!(accel.prefetch(), on);
         }
-        for kernel in [Kernel::Avx2, Kernel::Portable, Kernel::Avx2] {
+        for kernel in [
+            Kernel::Avx2,
+            Kernel::Portable,
+            Kernel::Avx512,
+            Kernel::best(),
+        ] {
             let before = accel.kernel();
             match accel.set_kernel(kernel) {
                 Ok(()) => {
@@ -905,14 +950,16 @@ mod tests {
         let a = Accel::build(&[], BuildQuality::Fast);
         assert!(a.intersect(&Ray::new(Vec3::ZERO, Vec3::X)).is_none());
         assert!(!a.occluded(&Ray::new(Vec3::ZERO, Vec3::X)));
-        let mut hits = [Some(Hit {
-            triangle: 0,
-            t: 1.0,
-            b1: 0.0,
-            b2: 0.0,
-        })];
-        a.intersect_many(&[Ray::new(Vec3::ZERO, Vec3::X)], &mut hits);
-        assert_eq!(hits, [None]);
+        for (name, batch) in BATCHES {
+            let mut hits = [Some(Hit {
+                triangle: 0,
+                t: 1.0,
+                b1: 0.0,
+                b2: 0.0,
+            })];
+            batch(&a, &[Ray::new(Vec3::ZERO, Vec3::X)], &mut hits);
+            assert_eq!(hits, [None], "{name}");
+        }
     }
 }
 
@@ -952,6 +999,21 @@ mod signed_zero_tests {
                     "{kernel:?} {o} {dir:?}"
                 );
                 assert!(accel.occluded(&ray), "{kernel:?} {o} {dir:?}");
+            }
+            // The three directions in one packet.
+            let rays = [
+                -Vec3::Y,
+                Vec3::new(0.0, -1.0, 0.0),
+                Vec3::new(-0.0, -1.0, 0.0),
+            ]
+            .map(|d| Ray::new(o, d));
+            let mut hits = [None; 3];
+            accel.intersect_packets(&rays, &mut hits);
+            for h in hits {
+                assert!(
+                    h.is_some_and(|h| (h.t - 1.0).abs() < 1e-6),
+                    "{kernel:?} {o}"
+                );
             }
         }
     }

@@ -33,16 +33,18 @@ pub enum Kernel {
     Portable,
     /// 8-lane AVX2 box tests (x86-64 CPUs since 2013).
     Avx2,
+    /// AVX2's single-ray traversal (an 8-wide node needs no more lanes),
+    /// and packets of 16 rays tested with 16-lane AVX-512 instructions.
+    Avx512,
 }
 
 impl Kernel {
     /// The fastest kernel this CPU runs.
     pub fn best() -> Kernel {
-        if Kernel::Avx2.is_supported() {
-            Kernel::Avx2
-        } else {
-            Kernel::Portable
-        }
+        [Kernel::Avx512, Kernel::Avx2]
+            .into_iter()
+            .find(|k| k.is_supported())
+            .unwrap_or(Kernel::Portable)
     }
 
     /// True if this CPU can run the kernel.
@@ -51,14 +53,19 @@ impl Kernel {
             Kernel::Portable => true,
             #[cfg(target_arch = "x86_64")]
             Kernel::Avx2 => std::arch::is_x86_feature_detected!("avx2"),
+            #[cfg(target_arch = "x86_64")]
+            Kernel::Avx512 => {
+                std::arch::is_x86_feature_detected!("avx2")
+                    && std::arch::is_x86_feature_detected!("avx512f")
+            }
             #[cfg(not(target_arch = "x86_64"))]
-            Kernel::Avx2 => false,
+            Kernel::Avx2 | Kernel::Avx512 => false,
         }
     }
 
     /// Every kernel this CPU runs.
     pub fn available() -> Vec<Kernel> {
-        [Kernel::Portable, Kernel::Avx2]
+        [Kernel::Portable, Kernel::Avx2, Kernel::Avx512]
             .into_iter()
             .filter(|k| k.is_supported())
             .collect()
@@ -122,6 +129,26 @@ impl<'a> Query<'a> {
             prefetch,
         }
     }
+
+    /// The far end of the ray.
+    #[inline(always)]
+    pub fn tmax(&self) -> f32 {
+        self.tmax
+    }
+
+    /// Whether the traversal prefetches entered children.
+    #[inline(always)]
+    pub fn prefetches(&self) -> bool {
+        self.prefetch
+    }
+
+    /// The box test's view of the ray: origin, reciprocal direction, and
+    /// per axis whether it enters a box by the max plane.
+    #[inline(always)]
+    pub fn box_ray(&self) -> ([f32; 3], [f32; 3], [bool; 3]) {
+        let b = &self.boxes;
+        (b.origin, b.inv, b.near.map(|p| p % 2 == 1))
+    }
 }
 
 /// A deferred subtree: its slot code and the distance at which the ray
@@ -134,7 +161,7 @@ struct Entry {
 
 /// Entries a stack holds without going to the heap: enough for 36 levels
 /// (each level defers at most seven children).
-const STACK_INLINE: usize = 256;
+pub(super) const STACK_INLINE: usize = 256;
 
 /// Evaluates `$body` with `$stack` bound to an uninitialised traversal
 /// stack large enough for `$wide`: inline, or on the heap for very deep
@@ -222,7 +249,7 @@ unsafe fn slab_avx2(node: &Node8, r: &BoxRay, tmax: f32, t_enter: &mut [f32; WID
 /// overlap instead of following one another as the traversal reaches
 /// each (a hint: it changes no result).
 #[inline(always)]
-fn prefetch(q: &Query, code: u32) {
+pub(super) fn prefetch(q: &Query, code: u32) {
     #[cfg(target_arch = "x86_64")]
     {
         use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
@@ -303,6 +330,30 @@ fn lane_hit(
     }
 }
 
+/// Tests the triangles of leaf `code` for the closest accepted hit before
+/// `best_t`, bringing `best_t` and `best` to it.
+#[inline(always)]
+pub(super) fn leaf_step<const AVX2: bool>(
+    q: &Query,
+    code: u32,
+    keep: &impl Fn(usize, f32, f32) -> bool,
+    best_t: &mut f32,
+    best: &mut Option<(usize, TriangleHit)>,
+) {
+    let (b, count) = leaf_parts(code);
+    let block = &q.blocks[b];
+    let hits = block_hits::<AVX2>(q, block, count, *best_t);
+    for lane in 0..count {
+        // An earlier lane may have brought `best_t` closer.
+        if let Some(h) = lane_hit(q, block, &hits, lane, *best_t)
+            && keep(LANES * b + lane, h.b1, h.b2)
+        {
+            *best_t = h.t;
+            *best = Some((LANES * b + lane, h));
+        }
+    }
+}
+
 /// A closest-hit traversal in progress: the node or leaf it visits next,
 /// the depth of its stack, and the closest accepted hit so far. One
 /// [`Walk::step`] visits one node or leaf, so several rays' walks can be
@@ -338,18 +389,7 @@ impl Walk {
         stack: &mut [MaybeUninit<Entry>],
     ) -> bool {
         if self.code & LEAF_BIT != 0 {
-            let (b, count) = leaf_parts(self.code);
-            let block = &q.blocks[b];
-            let hits = block_hits::<AVX2>(q, block, count, self.best_t);
-            for lane in 0..count {
-                // An earlier lane may have brought `best_t` closer.
-                if let Some(h) = lane_hit(q, block, &hits, lane, self.best_t)
-                    && keep(LANES * b + lane, h.b1, h.b2)
-                {
-                    self.best_t = h.t;
-                    self.best = Some((LANES * b + lane, h));
-                }
-            }
+            leaf_step::<AVX2>(q, self.code, keep, &mut self.best_t, &mut self.best);
         } else {
             let node = &q.wide.nodes[self.code as usize];
             let mut t = [0.0; WIDTH];
@@ -550,7 +590,7 @@ pub(super) fn closest_hits<'a>(
     match kernel {
         // SAFETY: `kernel` is supported (the caller's contract).
         #[cfg(target_arch = "x86_64")]
-        Kernel::Avx2 => unsafe { closest_many_avx2(count, query, found) },
+        Kernel::Avx2 | Kernel::Avx512 => unsafe { closest_many_avx2(count, query, found) },
         _ => closest_many::<false>(count, query, found),
     }
     Some(())
@@ -566,7 +606,7 @@ pub(super) fn closest_hit(
     match kernel {
         // SAFETY: `kernel` is supported (the caller's contract).
         #[cfg(target_arch = "x86_64")]
-        Kernel::Avx2 => unsafe { closest_avx2(q, keep) },
+        Kernel::Avx2 | Kernel::Avx512 => unsafe { closest_avx2(q, keep) },
         _ => with_stack!(q.wide, s => closest::<false>(q, keep, s)),
     }
 }
@@ -577,7 +617,7 @@ pub(super) fn any_hit(kernel: Kernel, q: &Query, keep: &impl Fn(usize, f32, f32)
     match kernel {
         // SAFETY: `kernel` is supported (the caller's contract).
         #[cfg(target_arch = "x86_64")]
-        Kernel::Avx2 => unsafe { any_avx2(q, keep) },
+        Kernel::Avx2 | Kernel::Avx512 => unsafe { any_avx2(q, keep) },
         _ => with_stack!(q.wide, s => any::<false>(q, keep, s)),
     }
 }
@@ -587,7 +627,7 @@ mod tests {
     use super::*;
 
     /// The kernels offered are the CPU's: always the portable one, AVX2
-    /// exactly when the CPU reports it (tests that loop over the kernels
+    /// and AVX-512 exactly when the CPU reports them (tests that loop over the kernels
     /// would pass vacuously on an empty list).
     #[test]
     fn available_kernels_are_the_cpus() {
@@ -596,8 +636,16 @@ mod tests {
         #[cfg(target_arch = "x86_64")]
         {
             let avx2 = std::arch::is_x86_feature_detected!("avx2");
+            let avx512 = avx2 && std::arch::is_x86_feature_detected!("avx512f");
             assert_eq!(kernels.contains(&Kernel::Avx2), avx2);
-            let best = if avx2 { Kernel::Avx2 } else { Kernel::Portable };
+            assert_eq!(kernels.contains(&Kernel::Avx512), avx512);
+            let best = if avx512 {
+                Kernel::Avx512
+            } else if avx2 {
+                Kernel::Avx2
+            } else {
+                Kernel::Portable
+            };
             assert_eq!(Kernel::best(), best);
         }
     }

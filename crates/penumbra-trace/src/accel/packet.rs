@@ -1,0 +1,420 @@
+//! Packet traversal: up to [`PACKET`] rays walk the 8-wide BVH together.
+//! At each node every child box is tested against all the packet's rays
+//! at once (one lane per ray), so the node is loaded, sorted and pushed
+//! once for the packet instead of once per ray. The rays that enter a
+//! child go on into it together; a leaf's triangles are tested ray by ray
+//! with the single-ray leaf test. Fast where the rays are coherent (the
+//! camera rays of neighbouring pixels), wasteful where they diverge.
+//!
+//! Each lane makes the single-ray box test's IEEE operations in the same
+//! order (the near and far planes chosen per lane from the signs of its
+//! direction), and each ray is culled against its own closest hit, so each
+//! ray gets the hit it gets alone; only the order of visits differs, which
+//! can change which of two triangles at exactly the same distance is
+//! reported.
+//!
+//! `unsafe` for the AVX2 and AVX-512 box tests and to call their entry
+//! points after the CPU check.
+#![allow(unsafe_code)]
+
+use super::traverse::Kernel;
+use super::traverse::{Query, STACK_INLINE, leaf_step, prefetch};
+use super::watertight::TriangleHit;
+use super::wide::{LEAF_BIT, Node8, WIDTH};
+
+/// Rays per packet.
+pub(super) const PACKET: usize = 16;
+
+/// Which compiled box test a packet runs (`SIMD` below).
+const PORTABLE: u8 = 0;
+const AVX2: u8 = 1;
+const AVX512: u8 = 2;
+
+/// A deferred subtree: its slot code, the packet's rays that entered its
+/// box, and each ray's entry distance.
+#[derive(Clone, Copy)]
+struct PacketEntry {
+    code: u32,
+    mask: u32,
+    t: [f32; PACKET],
+}
+
+/// The packet's rays as the box test sees them, one lane per ray: origin,
+/// reciprocal direction and, per axis, which rays enter a box by its max
+/// plane (negative direction): as a bit mask, and as −0.0 (sign bit set)
+/// or 0.0 per lane for AVX2's blends.
+#[repr(C, align(64))]
+struct PacketBoxes {
+    origin: [[f32; PACKET]; 3],
+    inv: [[f32; PACKET]; 3],
+    negative_sign: [[f32; PACKET]; 3],
+    negative: [u32; 3],
+}
+
+impl PacketBoxes {
+    fn new(queries: &[Query; PACKET]) -> Self {
+        let mut p = PacketBoxes {
+            origin: [[0.0; PACKET]; 3],
+            inv: [[1.0; PACKET]; 3],
+            negative_sign: [[0.0; PACKET]; 3],
+            negative: [0; 3],
+        };
+        for (l, q) in queries.iter().enumerate() {
+            let (origin, inv, negative) = q.box_ray();
+            for a in 0..3 {
+                p.origin[a][l] = origin[a];
+                p.inv[a][l] = inv[a];
+                p.negative_sign[a][l] = if negative[a] { -0.0 } else { 0.0 };
+                p.negative[a] |= (negative[a] as u32) << l;
+            }
+        }
+        p
+    }
+
+    /// Entry distances of slot `slot` of `node` for every lane (clamped
+    /// below by 0), and the mask of the lanes that enter it before their
+    /// `tmax`: per lane, the operations of the single-ray slab test.
+    #[inline(always)]
+    fn slab<const SIMD: u8>(
+        &self,
+        node: &Node8,
+        slot: usize,
+        tmax: &[f32; PACKET],
+        t: &mut [f32; PACKET],
+    ) -> u32 {
+        #[cfg(target_arch = "x86_64")]
+        {
+            // SAFETY: the SIMD entry points run only where their kernel is
+            // supported (checked in `Accel::set_kernel` and `Kernel::best`).
+            if SIMD == AVX512 {
+                return unsafe { self.slab_avx512(node, slot, tmax, t) };
+            }
+            if SIMD == AVX2 {
+                return unsafe { self.slab_avx2(node, slot, tmax, t) };
+            }
+        }
+        self.slab_portable(node, slot, tmax, t)
+    }
+
+    #[inline(always)]
+    fn slab_portable(
+        &self,
+        node: &Node8,
+        slot: usize,
+        tmax: &[f32; PACKET],
+        t: &mut [f32; PACKET],
+    ) -> u32 {
+        let b = &node.bounds;
+        let mut mask = 0;
+        for l in 0..PACKET {
+            let side = |a: usize| {
+                let (lo, hi) = (b[2 * a][slot], b[2 * a + 1][slot]);
+                let (near, far) = if self.negative[a] >> l & 1 != 0 {
+                    (hi, lo)
+                } else {
+                    (lo, hi)
+                };
+                let (o, inv) = (self.origin[a][l], self.inv[a][l]);
+                ((near - o) * inv, (far - o) * inv)
+            };
+            let (nx, fx) = side(0);
+            let (ny, fy) = side(1);
+            let (nz, fz) = side(2);
+            let t0 = nx.max(ny).max(nz.max(0.0));
+            let t1 = fx.min(fy).min(fz.min(tmax[l]));
+            t[l] = t0;
+            mask |= ((t0 <= t1) as u32) << l;
+        }
+        mask
+    }
+
+    /// [`PacketBoxes::slab_portable`] in AVX2, eight lanes at a time, with
+    /// the single-ray AVX2 test's `max`/`min` instructions.
+    ///
+    /// # Safety
+    /// The CPU must support AVX2 (inlined into the `target_feature` entry
+    /// points, as `traverse.rs`'s `slab_avx2`).
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    unsafe fn slab_avx2(
+        &self,
+        node: &Node8,
+        slot: usize,
+        tmax: &[f32; PACKET],
+        t: &mut [f32; PACKET],
+    ) -> u32 {
+        use std::arch::x86_64::*;
+        let b = &node.bounds;
+        let mut mask = 0;
+        // SAFETY: every array holds 16 f32, read and written 8 at a time
+        // at offsets 0 and 8 with unaligned loads and stores.
+        unsafe {
+            for half in [0, 8] {
+                // A macro, as in `slab_avx512`.
+                macro_rules! side {
+                    ($a:expr) => {{
+                        let lo = _mm256_set1_ps(b[2 * $a][slot]);
+                        let hi = _mm256_set1_ps(b[2 * $a + 1][slot]);
+                        let neg = _mm256_loadu_ps(self.negative_sign[$a][half..].as_ptr());
+                        let near = _mm256_blendv_ps(lo, hi, neg);
+                        let far = _mm256_blendv_ps(hi, lo, neg);
+                        let o = _mm256_loadu_ps(self.origin[$a][half..].as_ptr());
+                        let inv = _mm256_loadu_ps(self.inv[$a][half..].as_ptr());
+                        (
+                            _mm256_mul_ps(_mm256_sub_ps(near, o), inv),
+                            _mm256_mul_ps(_mm256_sub_ps(far, o), inv),
+                        )
+                    }};
+                }
+                let (nx, fx) = side!(0);
+                let (ny, fy) = side!(1);
+                let (nz, fz) = side!(2);
+                let t0 = _mm256_max_ps(
+                    _mm256_max_ps(nx, ny),
+                    _mm256_max_ps(nz, _mm256_setzero_ps()),
+                );
+                let t1 = _mm256_min_ps(
+                    _mm256_min_ps(fx, fy),
+                    _mm256_min_ps(fz, _mm256_loadu_ps(tmax[half..].as_ptr())),
+                );
+                _mm256_storeu_ps(t[half..].as_mut_ptr(), t0);
+                let m = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(t0, t1)) as u32;
+                mask |= m << half;
+            }
+        }
+        mask
+    }
+
+    /// [`PacketBoxes::slab_portable`] in AVX-512, all sixteen lanes at once.
+    ///
+    /// # Safety
+    /// The CPU must support AVX-512F (inlined into the `target_feature`
+    /// entry point).
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    unsafe fn slab_avx512(
+        &self,
+        node: &Node8,
+        slot: usize,
+        tmax: &[f32; PACKET],
+        t: &mut [f32; PACKET],
+    ) -> u32 {
+        use std::arch::x86_64::*;
+        let b = &node.bounds;
+        // SAFETY: every array holds 16 f32 (unaligned loads and stores).
+        unsafe {
+            // A macro, not a closure: closures do not inherit the caller's
+            // target features, so the intrinsics would not inline into one.
+            macro_rules! side {
+                ($a:expr) => {{
+                    let lo = _mm512_set1_ps(b[2 * $a][slot]);
+                    let hi = _mm512_set1_ps(b[2 * $a + 1][slot]);
+                    let neg = self.negative[$a] as __mmask16;
+                    let near = _mm512_mask_blend_ps(neg, lo, hi);
+                    let far = _mm512_mask_blend_ps(neg, hi, lo);
+                    let o = _mm512_loadu_ps(self.origin[$a].as_ptr());
+                    let inv = _mm512_loadu_ps(self.inv[$a].as_ptr());
+                    (
+                        _mm512_mul_ps(_mm512_sub_ps(near, o), inv),
+                        _mm512_mul_ps(_mm512_sub_ps(far, o), inv),
+                    )
+                }};
+            }
+            let (nx, fx) = side!(0);
+            let (ny, fy) = side!(1);
+            let (nz, fz) = side!(2);
+            let t0 = _mm512_max_ps(
+                _mm512_max_ps(nx, ny),
+                _mm512_max_ps(nz, _mm512_setzero_ps()),
+            );
+            let t1 = _mm512_min_ps(
+                _mm512_min_ps(fx, fy),
+                _mm512_min_ps(fz, _mm512_loadu_ps(tmax.as_ptr())),
+            );
+            _mm512_storeu_ps(t.as_mut_ptr(), t0);
+            _mm512_cmp_ps_mask::<_CMP_LE_OQ>(t0, t1) as u32
+        }
+    }
+}
+
+/// Closest hits of the rays of `queries` in the lanes of `live`, each the
+/// leaf-order triangle index and the hit; `stack` must hold
+/// `(WIDTH − 1) · depth + 1` entries.
+#[inline(always)]
+fn closest_packet<const SIMD: u8>(
+    queries: &[Query; PACKET],
+    live: u32,
+    stack: &mut [PacketEntry],
+) -> [Option<(usize, TriangleHit)>; PACKET] {
+    let keep = |_, _, _| true;
+    let mut best = [None; PACKET];
+    let best_t_of = |l: usize| queries[l].tmax();
+    let mut best_t: [f32; PACKET] = std::array::from_fn(best_t_of);
+    let boxes = PacketBoxes::new(queries);
+    let q0 = &queries[0];
+    let mut sp = 0;
+    let mut code = 0u32;
+    let mut active = live;
+    loop {
+        if code & LEAF_BIT != 0 {
+            let mut m = active;
+            while m != 0 {
+                let l = m.trailing_zeros() as usize;
+                m &= m - 1;
+                let (q, t, b) = (&queries[l], &mut best_t[l], &mut best[l]);
+                if SIMD == PORTABLE {
+                    leaf_step::<false>(q, code, &keep, t, b);
+                } else {
+                    leaf_step::<true>(q, code, &keep, t, b);
+                }
+            }
+        } else {
+            let node = &q0.wide.nodes[code as usize];
+            // Entered children, sorted by decreasing nearest entry.
+            let mut hits = [PacketEntry {
+                code: 0,
+                mask: 0,
+                t: [0.0; PACKET],
+            }; WIDTH];
+            let mut keys = [0u32; WIDTH];
+            let mut n = 0;
+            for slot in 0..WIDTH {
+                let mut t = [0.0; PACKET];
+                let mask = boxes.slab::<SIMD>(node, slot, &best_t, &mut t) & active;
+                if mask == 0 {
+                    continue;
+                }
+                if q0.prefetches() {
+                    prefetch(q0, node.child[slot]);
+                }
+                // The nearest entry among the lanes that enter: entry
+                // distances are ≥ 0, whose bits order as the values do.
+                let key = (0..PACKET)
+                    .map(|l| {
+                        if mask >> l & 1 != 0 {
+                            t[l].to_bits()
+                        } else {
+                            u32::MAX
+                        }
+                    })
+                    .min()
+                    .unwrap_or(u32::MAX);
+                let mut j = n;
+                while j > 0 && keys[j - 1] < key {
+                    hits[j] = hits[j - 1];
+                    keys[j] = keys[j - 1];
+                    j -= 1;
+                }
+                hits[j] = PacketEntry {
+                    code: node.child[slot],
+                    mask,
+                    t,
+                };
+                keys[j] = key;
+                n += 1;
+            }
+            if n > 0 {
+                stack[sp..sp + n - 1].copy_from_slice(&hits[..n - 1]);
+                sp += n - 1;
+                code = hits[n - 1].code;
+                active = hits[n - 1].mask;
+                continue;
+            }
+        }
+        loop {
+            if sp == 0 {
+                return best;
+            }
+            sp -= 1;
+            let e = &stack[sp];
+            let mut m = e.mask;
+            let mut live = 0;
+            while m != 0 {
+                let l = m.trailing_zeros() as usize;
+                m &= m - 1;
+                live |= ((e.t[l] <= best_t[l]) as u32) << l;
+            }
+            if live != 0 {
+                code = e.code;
+                active = live;
+                break;
+            }
+        }
+    }
+}
+
+/// [`closest_packet`] over all `count` rays, [`PACKET`] consecutive rays
+/// at a time; `found(i, hit)` receives each ray's hit.
+#[inline(always)]
+fn closest_packets<'a, const SIMD: u8>(
+    count: usize,
+    depth: usize,
+    query: &impl Fn(usize) -> Query<'a>,
+    found: &mut impl FnMut(usize, Option<(usize, TriangleHit)>),
+) {
+    let need = (WIDTH - 1) * depth + 1;
+    let empty = PacketEntry {
+        code: 0,
+        mask: 0,
+        t: [0.0; PACKET],
+    };
+    let mut inline = [empty; STACK_INLINE];
+    let mut heap = Vec::new();
+    let stack: &mut [PacketEntry] = if need <= STACK_INLINE {
+        &mut inline
+    } else {
+        heap.resize(need, empty);
+        &mut heap
+    };
+    for first in (0..count).step_by(PACKET) {
+        let n = PACKET.min(count - first);
+        // A last, partial packet repeats its last ray in the unused lanes,
+        // which are never active.
+        let queries: [Query<'a>; PACKET] = std::array::from_fn(|l| query(first + l.min(n - 1)));
+        let hits = closest_packet::<SIMD>(&queries, (1 << n) - 1, stack);
+        for (l, hit) in hits.into_iter().take(n).enumerate() {
+            found(first + l, hit);
+        }
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn closest_packets_avx2<'a>(
+    count: usize,
+    depth: usize,
+    query: &impl Fn(usize) -> Query<'a>,
+    found: &mut impl FnMut(usize, Option<(usize, TriangleHit)>),
+) {
+    closest_packets::<AVX2>(count, depth, query, found)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,avx512f")]
+fn closest_packets_avx512<'a>(
+    count: usize,
+    depth: usize,
+    query: &impl Fn(usize) -> Query<'a>,
+    found: &mut impl FnMut(usize, Option<(usize, TriangleHit)>),
+) {
+    closest_packets::<AVX512>(count, depth, query, found)
+}
+
+/// Closest hits of `count` rays in packets of [`PACKET`] consecutive rays
+/// with `kernel` (which this CPU must support).
+pub(super) fn closest_hits_packets<'a>(
+    kernel: Kernel,
+    depth: usize,
+    count: usize,
+    query: &impl Fn(usize) -> Query<'a>,
+    found: &mut impl FnMut(usize, Option<(usize, TriangleHit)>),
+) {
+    match kernel {
+        // SAFETY: `kernel` is supported (the caller's contract).
+        #[cfg(target_arch = "x86_64")]
+        Kernel::Avx2 => unsafe { closest_packets_avx2(count, depth, query, found) },
+        #[cfg(target_arch = "x86_64")]
+        Kernel::Avx512 => unsafe { closest_packets_avx512(count, depth, query, found) },
+        _ => closest_packets::<PORTABLE>(count, depth, query, found),
+    }
+}
