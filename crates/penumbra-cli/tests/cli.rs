@@ -310,6 +310,28 @@ fn render_info_compare_round_trip() {
     );
 }
 
+/// `bench --kernel` runs the kernel asked for and names it; the portable
+/// kernel runs on every CPU.
+#[test]
+fn bench_runs_the_kernel_asked_for() {
+    let dir = tempfile::tempdir().unwrap();
+    let args = [
+        "bench",
+        "--triangles",
+        "2000",
+        "--ray-resolution",
+        "16",
+        "--spp",
+        "0",
+        "--kernel",
+        "portable",
+    ];
+    let o = penumbra(&args, dir.path());
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(out.contains("Portable kernel"), "{out}");
+}
+
 #[test]
 fn bench_json_lines() {
     let dir = tempfile::tempdir().unwrap();

@@ -12,7 +12,7 @@ use glam::{Mat4, Vec3};
 use penumbra_scene::{Camera, IntegratorKind, Material, Projection, Scene, SceneLight};
 use penumbra_shading::Rgb;
 use penumbra_shading::light::{DirectionalLight, Light};
-use penumbra_trace::accel::BuildQuality;
+use penumbra_trace::accel::{BuildQuality, Kernel};
 use penumbra_trace::bench::{
     Measure, Tracing, bench_mesh, camera_rays, incoherent_rays, measure_closest_hit,
     parse_ray_file, write_obj, write_ray_file,
@@ -63,6 +63,10 @@ pub struct BenchArgs {
     /// The path measure always uses `auto`.
     #[arg(long, value_enum, default_value_t = PrefetchArg::Auto)]
     pub prefetch: PrefetchArg,
+    /// Trace: the traversal kernel of the closest-hit measures (default:
+    /// the fastest this CPU runs); an error if the CPU cannot run it.
+    #[arg(long, value_enum)]
+    pub kernel: Option<KernelArg>,
     /// Raster: image size.
     #[arg(long, default_value = "1920x1080", value_parser = parse_resolution)]
     pub resolution: (u32, u32),
@@ -111,6 +115,14 @@ pub enum PrefetchArg {
     Auto,
     On,
     Off,
+}
+
+/// `bench --kernel`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum KernelArg {
+    Portable,
+    Avx2,
+    Avx512,
 }
 
 /// A scene of `meshes` in grey, lit by a sun, framed by the camera.
@@ -308,6 +320,17 @@ fn run_measures(args: &BenchArgs, scene: &Scene, load: Option<Measure>) -> Resul
         PrefetchArg::On => geometry.accel.set_prefetch(true),
         PrefetchArg::Off => geometry.accel.set_prefetch(false),
     }
+    if let Some(kernel) = args.kernel {
+        let kernel = match kernel {
+            KernelArg::Portable => Kernel::Portable,
+            KernelArg::Avx2 => Kernel::Avx2,
+            KernelArg::Avx512 => Kernel::Avx512,
+        };
+        geometry
+            .accel
+            .set_kernel(kernel)
+            .map_err(anyhow::Error::msg)?;
+    }
     let accel = &geometry.accel;
     let build = Measure {
         name: "build",
@@ -317,9 +340,10 @@ fn run_measures(args: &BenchArgs, scene: &Scene, load: Option<Measure>) -> Resul
     };
     if !args.json {
         println!(
-            "penumbra bench: {} triangles, {} threads, BVH prefetch {}",
+            "penumbra bench: {} triangles, {} threads, {:?} kernel, BVH prefetch {}",
             geometry.triangles.len(),
             rayon::current_num_threads(),
+            accel.kernel(),
             if accel.prefetch() { "on" } else { "off" }
         );
     }
