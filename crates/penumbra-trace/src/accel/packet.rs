@@ -418,3 +418,113 @@ pub(super) fn closest_hits_packets<'a>(
         _ => closest_packets::<PORTABLE>(count, depth, query, found),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::accel::wide::Wide;
+    use glam::Vec3;
+
+    /// A node whose eight slots hold boxes around the origin of several
+    /// sizes and places, one of them flat, and one empty slot.
+    fn node() -> Node8 {
+        let boxes: [([f32; 3], [f32; 3]); 7] = [
+            ([1.0; 3], [2.0; 3]),
+            ([-3.0, -0.5, -0.5], [-2.0, 0.5, 0.5]),
+            ([-1.0; 3], [1.0; 3]),
+            ([1.0, 5.0, 1.0], [2.0, 6.0, 2.0]),
+            ([4.0; 3], [5.0; 3]),
+            ([-6.0, -6.0, 0.0], [6.0, 6.0, 0.0]),
+            ([-2.0, 1.0, -4.0], [-1.0, 3.0, -3.0]),
+        ];
+        let mut n = Node8 {
+            bounds: [[0.0; WIDTH]; 6],
+            child: [0; WIDTH],
+        };
+        for slot in 0..WIDTH {
+            for a in 0..3 {
+                let (lo, hi) = boxes
+                    .get(slot)
+                    .map_or((f32::INFINITY, f32::NEG_INFINITY), |b| (b.0[a], b.1[a]));
+                n.bounds[2 * a][slot] = lo;
+                n.bounds[2 * a + 1][slot] = hi;
+            }
+        }
+        n
+    }
+
+    /// Every lane of the packet box test gives the single-ray test's entry
+    /// distance and hit bit for its ray, slot by slot, with each kernel:
+    /// rays of all eight octants, with zero components of both signs, from
+    /// inside and outside the boxes, each with its own `tmax`.
+    #[test]
+    fn lanes_match_the_single_ray_box_test() {
+        let wide = Wide::default();
+        let node = node();
+        let mut queries = Vec::new();
+        let centres = [
+            Vec3::splat(1.5),
+            Vec3::new(-2.5, 0.0, 0.0),
+            Vec3::ZERO,
+            Vec3::new(1.5, 5.5, 1.5),
+            Vec3::splat(4.5),
+            Vec3::new(0.5, -0.5, 0.0),
+            Vec3::new(-1.5, 2.0, -3.5),
+        ];
+        for i in 0..PACKET {
+            let f = i as f32;
+            // Origins all around (every octant of directions), each ray
+            // aimed near one box's centre.
+            let o = Vec3::new(
+                8.0 * (f * 2.4).cos(),
+                6.0 * (f * 1.7).sin(),
+                7.0 * (f * 0.9 + 1.0).cos(),
+            );
+            let target = centres[i % centres.len()] + Vec3::splat((f * 0.37).sin() * 0.3);
+            let mut d = (target - o).normalize();
+            let mut o = o;
+            // Axis-parallel rays with zero components of either sign.
+            match i {
+                3 => (o, d) = (Vec3::new(1.5, 1.5, -9.0), Vec3::new(0.0, -0.0, 1.0)),
+                11 => (o, d) = (Vec3::new(9.0, 0.2, 0.0), Vec3::new(-1.0, 0.0, -0.0)),
+                _ => {}
+            }
+            let tmax = if i % 3 == 0 { 9.0 } else { f32::INFINITY };
+            queries.push(Query::new(&wide, &[], o, d, tmax, false));
+        }
+        let queries: [Query; PACKET] = queries.try_into().ok().unwrap();
+        let boxes = PacketBoxes::new(&queries);
+        let tmax: [f32; PACKET] = std::array::from_fn(|l| queries[l].tmax());
+        let mut kernels = vec![PORTABLE];
+        if Kernel::Avx2.is_supported() {
+            kernels.push(AVX2);
+        }
+        if Kernel::Avx512.is_supported() {
+            kernels.push(AVX512);
+        }
+        let (mut hits, mut misses) = (0, 0);
+        for simd in kernels {
+            for slot in 0..WIDTH {
+                let mut t = [f32::NAN; PACKET];
+                let mask = match simd {
+                    PORTABLE => boxes.slab::<PORTABLE>(&node, slot, &tmax, &mut t),
+                    AVX2 => boxes.slab::<AVX2>(&node, slot, &tmax, &mut t),
+                    _ => boxes.slab::<AVX512>(&node, slot, &tmax, &mut t),
+                };
+                for (l, q) in queries.iter().enumerate() {
+                    let mut alone = [f32::NAN; WIDTH];
+                    let alone_mask = q.slab_alone(&node, false, &mut alone);
+                    let hit = alone_mask >> slot & 1;
+                    assert_eq!(mask >> l & 1, hit, "kernel {simd} slot {slot} lane {l}");
+                    if hit == 1 {
+                        assert_eq!(t[l], alone[slot], "kernel {simd} slot {slot} lane {l}");
+                        hits += 1;
+                    } else {
+                        misses += 1;
+                    }
+                }
+            }
+        }
+        assert!(hits > 20 && misses > 20, "{hits} hits, {misses} misses");
+    }
+}

@@ -142,6 +142,17 @@ impl<'a> Query<'a> {
         self.prefetch
     }
 
+    /// The single-ray box test of `node`'s eight slots (for tests that
+    /// compare other box tests with it).
+    #[cfg(test)]
+    pub fn slab_alone(&self, node: &Node8, avx2: bool, t: &mut [f32; WIDTH]) -> u32 {
+        if avx2 {
+            slab::<true>(node, &self.boxes, self.tmax, t)
+        } else {
+            slab::<false>(node, &self.boxes, self.tmax, t)
+        }
+    }
+
     /// The box test's view of the ray: origin, reciprocal direction, and
     /// per axis whether it enters a box by the max plane.
     #[inline(always)]
