@@ -208,21 +208,7 @@ impl Accel {
     /// # Panics
     /// If `hits` and `rays` differ in length.
     pub fn intersect_many(&self, rays: &[Ray], hits: &mut [Option<Hit>]) {
-        assert_eq!(rays.len(), hits.len(), "one hit per ray");
-        if self.blocks.is_empty() {
-            hits.fill(None);
-            return;
-        }
-        let query = |i: usize| self.query(&rays[i]);
-        let mut found = |i: usize, hit: Option<(usize, TriangleHit)>| {
-            hits[i] = hit.map(|(slot, h)| self.hit(slot, h));
-        };
-        if traverse::closest_hits(self.kernel, &self.wide, rays.len(), &query, &mut found).is_none()
-        {
-            for (hit, ray) in hits.iter_mut().zip(rays) {
-                *hit = self.intersect(ray);
-            }
-        }
+        self.intersect_batch(rays, hits, false);
     }
 
     /// Closest hits of many rays traced in packets of consecutive rays:
@@ -235,6 +221,12 @@ impl Accel {
     /// # Panics
     /// If `hits` and `rays` differ in length.
     pub fn intersect_packets(&self, rays: &[Ray], hits: &mut [Option<Hit>]) {
+        self.intersect_batch(rays, hits, true);
+    }
+
+    /// [`Accel::intersect_packets`] if `packets`, else
+    /// [`Accel::intersect_many`].
+    fn intersect_batch(&self, rays: &[Ray], hits: &mut [Option<Hit>], packets: bool) {
         assert_eq!(rays.len(), hits.len(), "one hit per ray");
         if self.blocks.is_empty() {
             hits.fill(None);
@@ -244,7 +236,15 @@ impl Accel {
         let mut found = |i: usize, hit: Option<(usize, TriangleHit)>| {
             hits[i] = hit.map(|(slot, h)| self.hit(slot, h));
         };
-        packet::closest_hits_packets(self.kernel, self.wide.depth, rays.len(), &query, &mut found);
+        let (kernel, count) = (self.kernel, rays.len());
+        if packets {
+            packet::closest_hits_packets(kernel, self.wide.depth, count, &query, &mut found);
+        } else if traverse::closest_hits(kernel, &self.wide, count, &query, &mut found).is_none() {
+            // Too deep for the interleaved walks' inline stacks.
+            for (hit, ray) in hits.iter_mut().zip(rays) {
+                *hit = self.intersect(ray);
+            }
+        }
     }
 
     /// True if anything lies along `ray` in (0, ray.tmax) (shadow rays).

@@ -670,20 +670,7 @@ mod tests {
             ([1.0, 5.0, 1.0], [2.0, 6.0, 2.0]),
             ([4.0; 3], [5.0; 3]),
         ];
-        let mut n = Node8 {
-            bounds: [[0.0; WIDTH]; 6],
-            child: [0; WIDTH],
-        };
-        for slot in 0..WIDTH {
-            for a in 0..3 {
-                let (lo, hi) = boxes
-                    .get(slot)
-                    .map_or((f32::INFINITY, f32::NEG_INFINITY), |b| (b.0[a], b.1[a]));
-                n.bounds[2 * a][slot] = lo;
-                n.bounds[2 * a + 1][slot] = hi;
-            }
-        }
-        n
+        Node8::with_boxes(&boxes)
     }
 
     /// Entry distances and hit masks against the closed form, along the

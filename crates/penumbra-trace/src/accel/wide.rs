@@ -70,6 +70,20 @@ impl Node8 {
     pub fn used(&self, i: usize) -> bool {
         self.bounds[0][i] <= self.bounds[1][i]
     }
+
+    /// A node whose first slots hold `boxes` (min, max corners) and whose
+    /// other slots are empty (for the box tests' tests).
+    #[cfg(test)]
+    pub fn with_boxes(boxes: &[([f32; 3], [f32; 3])]) -> Node8 {
+        let mut n = Node8::EMPTY;
+        for (slot, (lo, hi)) in boxes.iter().enumerate() {
+            for a in 0..3 {
+                n.bounds[2 * a][slot] = lo[a];
+                n.bounds[2 * a + 1][slot] = hi[a];
+            }
+        }
+        n
+    }
 }
 
 /// A leaf code for `count` triangles at `start` (a block, or while
