@@ -3,7 +3,9 @@
 # one run: penumbra's bench sphere (~1M triangles) is exported as an OBJ,
 # ../shared/anchors/bench_embree.py makes the coherent (camera) and random
 # incoherent ray sets from it and times Embree 3 through Mitsuba, then
-# `penumbra bench --rays` traces the same files. Needs the anchors' venv
+# `penumbra bench --rays` traces the same files, one ray at a time
+# (`file`), interleaved (`file-interleaved`) and in packets of 16
+# consecutive rays (`file-packets`). Needs the anchors' venv
 # (../shared/anchors/setup.sh).
 #
 #   scripts/bench-vs-embree.sh [PENUMBRA_BINARY...]   (default: a fresh release build)

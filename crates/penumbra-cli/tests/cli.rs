@@ -330,6 +330,13 @@ fn bench_runs_the_kernel_asked_for() {
     let out = String::from_utf8_lossy(&o.stdout);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(out.contains("Portable kernel"), "{out}");
+    // The raster engine has no traversal kernel.
+    let o = penumbra(
+        &["bench", "--engine", "raster", "--kernel", "avx2"],
+        dir.path(),
+    );
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("--engine trace only"), "{}", stderr(&o));
 }
 
 #[test]

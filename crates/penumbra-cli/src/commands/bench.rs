@@ -258,8 +258,12 @@ pub fn run(args: BenchArgs) -> Result<()> {
 }
 
 fn run_raster(args: &BenchArgs) -> Result<()> {
-    if args.write_mesh.is_some() || args.rays.is_some() || args.write_rays.is_some() {
-        bail!("--write-mesh, --rays and --write-rays apply to --engine trace only");
+    if args.write_mesh.is_some()
+        || args.rays.is_some()
+        || args.write_rays.is_some()
+        || args.kernel.is_some()
+    {
+        bail!("--write-mesh, --rays, --write-rays and --kernel apply to --engine trace only");
     }
     if args.msaa != 1 && args.msaa != 4 {
         bail!("--msaa {}: use 1 or 4", args.msaa);
