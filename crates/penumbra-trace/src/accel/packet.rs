@@ -17,8 +17,7 @@
 //! points after the CPU check.
 #![allow(unsafe_code)]
 
-use super::traverse::Kernel;
-use super::traverse::{Query, STACK_INLINE, leaf_step, prefetch};
+use super::traverse::{Kernel, Query, STACK_INLINE, leaf_step, prefetch};
 use super::watertight::TriangleHit;
 use super::wide::{LEAF_BIT, Node8, WIDTH};
 
@@ -500,7 +499,7 @@ mod tests {
                 };
                 for (l, q) in queries.iter().enumerate() {
                     let mut alone = [f32::NAN; WIDTH];
-                    let alone_mask = q.slab_alone(&node, false, &mut alone);
+                    let alone_mask = q.slab_alone(&node, &mut alone);
                     let hit = alone_mask >> slot & 1;
                     assert_eq!(mask >> l & 1, hit, "kernel {simd} slot {slot} lane {l}");
                     if hit == 1 {

@@ -13,11 +13,14 @@
 //! portable kernel. The same code is compiled twice: portable (LLVM picks
 //! the vector width it may) and for AVX2, chosen at run time; both make
 //! the same IEEE operations in the same order, so they find the same hits.
+//! The traversal is a [`Walk`] advanced one node or leaf at a time, so that
+//! [`closest_many`] can interleave several rays' walks on one thread.
 //!
-//! One of the crate's two modules with `unsafe` code (the other is
-//! `block.rs`, for its SSE intrinsics): calling the AVX2 functions (after
-//! the CPU check) and the uninitialised traversal stack (zeroing 2 KB per
-//! ray would cost more than a node test).
+//! One of the crate's three modules with `unsafe` code (the others are
+//! `block.rs`, for its SSE intrinsics, and `packet.rs`, for its AVX2 and
+//! AVX-512 box tests): calling the AVX2 functions (after the CPU check)
+//! and the uninitialised traversal stack (zeroing 2 KB per ray would cost
+//! more than a node test).
 #![allow(unsafe_code)]
 
 use super::block::{LANES, TriangleBlock};
@@ -142,15 +145,11 @@ impl<'a> Query<'a> {
         self.prefetch
     }
 
-    /// The single-ray box test of `node`'s eight slots (for tests that
-    /// compare other box tests with it).
+    /// The portable single-ray box test of `node`'s eight slots (for
+    /// tests that compare other box tests with it).
     #[cfg(test)]
-    pub fn slab_alone(&self, node: &Node8, avx2: bool, t: &mut [f32; WIDTH]) -> u32 {
-        if avx2 {
-            slab::<true>(node, &self.boxes, self.tmax, t)
-        } else {
-            slab::<false>(node, &self.boxes, self.tmax, t)
-        }
+    pub fn slab_alone(&self, node: &Node8, t: &mut [f32; WIDTH]) -> u32 {
+        slab::<false>(node, &self.boxes, self.tmax, t)
     }
 
     /// The box test's view of the ray: origin, reciprocal direction, and
