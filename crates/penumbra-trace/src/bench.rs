@@ -3,7 +3,7 @@
 //! from surface points) rays, and rays read from a file so that another
 //! engine can trace exactly the same set.
 
-use crate::accel::Accel;
+use crate::accel::{Accel, Hit};
 use crate::ray::{Ray, offset_ray_origin};
 use glam::Vec3;
 use penumbra_scene::Camera;
@@ -100,15 +100,8 @@ pub fn measure_closest_hit(
                 .iter()
                 .filter(|r| accel.intersect(r).is_some())
                 .count() as u64,
-            Tracing::Interleaved | Tracing::Packets => {
-                let mut hits = vec![None; chunk.len()];
-                if tracing == Tracing::Packets {
-                    accel.intersect_packets(chunk, &mut hits);
-                } else {
-                    accel.intersect_many(chunk, &mut hits);
-                }
-                hits.iter().filter(|h| h.is_some()).count() as u64
-            }
+            Tracing::Interleaved => count_hits(chunk, |r, h| accel.intersect_many(r, h)),
+            Tracing::Packets => count_hits(chunk, |r, h| accel.intersect_packets(r, h)),
         })
         .sum();
     Measure {
@@ -117,6 +110,13 @@ pub fn measure_closest_hit(
         count: rays.len() as u64,
         hits,
     }
+}
+
+/// The rays of `rays` that `trace` (a batch call) finds a hit for.
+fn count_hits(rays: &[Ray], trace: impl Fn(&[Ray], &mut [Option<Hit>])) -> u64 {
+    let mut hits = vec![None; rays.len()];
+    trace(rays, &mut hits);
+    hits.iter().filter(|h| h.is_some()).count() as u64
 }
 
 /// Parses a ray file: little-endian f32 `ox oy oz dx dy dz` per ray, no

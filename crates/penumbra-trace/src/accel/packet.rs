@@ -17,7 +17,7 @@
 //! points after the CPU check.
 #![allow(unsafe_code)]
 
-use super::traverse::{Kernel, Query, STACK_INLINE, leaf_step, prefetch};
+use super::traverse::{Kernel, Query, STACK_INLINE, leaf_step, prefetch, stack_entries};
 use super::watertight::TriangleHit;
 use super::wide::{LEAF_BIT, Node8, WIDTH};
 
@@ -39,14 +39,14 @@ struct PacketEntry {
 }
 
 /// The packet's rays as the box test sees them, one lane per ray: origin,
-/// reciprocal direction and, per axis, which rays enter a box by its max
-/// plane (negative direction): as a bit mask, and as −0.0 (sign bit set)
-/// or 0.0 per lane for AVX2's blends.
+/// reciprocal direction and, per axis, the bit mask of the rays that enter
+/// a box by its max plane (negative direction: the reciprocal's sign bit,
+/// which AVX2's blends read directly: never −0 for a finite direction,
+/// see `BoxRay::new`).
 #[repr(C, align(64))]
 struct PacketBoxes {
     origin: [[f32; PACKET]; 3],
     inv: [[f32; PACKET]; 3],
-    negative_sign: [[f32; PACKET]; 3],
     negative: [u32; 3],
 }
 
@@ -55,7 +55,6 @@ impl PacketBoxes {
         let mut p = PacketBoxes {
             origin: [[0.0; PACKET]; 3],
             inv: [[1.0; PACKET]; 3],
-            negative_sign: [[0.0; PACKET]; 3],
             negative: [0; 3],
         };
         for (l, q) in queries.iter().enumerate() {
@@ -63,7 +62,6 @@ impl PacketBoxes {
             for a in 0..3 {
                 p.origin[a][l] = origin[a];
                 p.inv[a][l] = inv[a];
-                p.negative_sign[a][l] = if negative[a] { -0.0 } else { 0.0 };
                 p.negative[a] |= (negative[a] as u32) << l;
             }
         }
@@ -154,11 +152,11 @@ impl PacketBoxes {
                     ($a:expr) => {{
                         let lo = _mm256_set1_ps(b[2 * $a][slot]);
                         let hi = _mm256_set1_ps(b[2 * $a + 1][slot]);
-                        let neg = _mm256_loadu_ps(self.negative_sign[$a][half..].as_ptr());
-                        let near = _mm256_blendv_ps(lo, hi, neg);
-                        let far = _mm256_blendv_ps(hi, lo, neg);
-                        let o = _mm256_loadu_ps(self.origin[$a][half..].as_ptr());
                         let inv = _mm256_loadu_ps(self.inv[$a][half..].as_ptr());
+                        // The sign bit of `inv` chooses the max plane.
+                        let near = _mm256_blendv_ps(lo, hi, inv);
+                        let far = _mm256_blendv_ps(hi, lo, inv);
+                        let o = _mm256_loadu_ps(self.origin[$a][half..].as_ptr());
                         (
                             _mm256_mul_ps(_mm256_sub_ps(near, o), inv),
                             _mm256_mul_ps(_mm256_sub_ps(far, o), inv),
@@ -351,7 +349,7 @@ fn closest_packets<'a, const SIMD: u8>(
     query: &impl Fn(usize) -> Query<'a>,
     found: &mut impl FnMut(usize, Option<(usize, TriangleHit)>),
 ) {
-    let need = (WIDTH - 1) * depth + 1;
+    let need = stack_entries(depth);
     let empty = PacketEntry {
         code: 0,
         mask: 0,

@@ -173,13 +173,20 @@ struct Entry {
 /// (each level defers at most seven children).
 pub(super) const STACK_INLINE: usize = 256;
 
+/// Entries a traversal stack needs for a tree `depth` nodes deep: each
+/// level defers at most seven children.
+#[inline(always)]
+pub(super) fn stack_entries(depth: usize) -> usize {
+    (WIDTH - 1) * depth + 1
+}
+
 /// Evaluates `$body` with `$stack` bound to an uninitialised traversal
 /// stack large enough for `$wide`: inline, or on the heap for very deep
 /// trees. A macro, not a closure: closures do not inherit the caller's
 /// target features, so the AVX2 box test would not inline into them.
 macro_rules! with_stack {
     ($wide:expr, $stack:ident => $body:expr) => {{
-        let need = (WIDTH - 1) * $wide.depth + 1;
+        let need = stack_entries($wide.depth);
         if need <= STACK_INLINE {
             let mut buf = [const { MaybeUninit::<Entry>::uninit() }; STACK_INLINE];
             let $stack = &mut buf[..];
@@ -594,7 +601,7 @@ pub(super) fn closest_hits<'a>(
     query: &impl Fn(usize) -> Query<'a>,
     found: &mut impl FnMut(usize, Option<(usize, TriangleHit)>),
 ) -> Option<()> {
-    if (WIDTH - 1) * wide.depth + 1 > STACK_INLINE {
+    if stack_entries(wide.depth) > STACK_INLINE {
         return None;
     }
     match kernel {
