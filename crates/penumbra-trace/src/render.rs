@@ -337,8 +337,10 @@ fn render_tile(
     let mut hits = vec![0u32; (r.w * r.h) as usize];
     for y in r.y0..r.y0 + r.h {
         for x in r.x0..r.x0 + r.w {
+            // One sampler per pixel: its samples share the scramble seeds.
+            let mut sampler = Sampler::new(x, y, s0, settings.seed);
             for s in s0..s1 {
-                let mut sampler = Sampler::new(x, y, s, settings.seed);
+                sampler.start_sample(s);
                 let [jx, jy] = sampler.next_2d();
                 let (o, d) = camera.generate_ray(
                     x as f32 + jx,

@@ -111,16 +111,50 @@ fn to_unit_float(x: u32) -> f32 {
     (x >> 8) as f32 * (1.0 / (1u32 << 24) as f32)
 }
 
+/// Dimension pairs whose scramble seeds a [`Sampler`] keeps for the next
+/// sample of its pixel (a depth-8 path draws at most 36: one for the
+/// camera ray, five a bounce).
+const CACHED_PAIRS: usize = 64;
+
 /// Per-pixel, per-sample stream of 2-D points in [0,1)².
 ///
 /// `next_2d` draws successive dimension pairs; `next_1d` uses the first half of
 /// a pair. Deterministic in (pixel, sample index, seed).
+///
+/// A pair's three scramble seeds depend on the pixel and the dimension only,
+/// so the sampler keeps them: [`Sampler::start_sample`] moves to another
+/// sample of the same pixel without hashing them again.
 #[derive(Clone, Debug)]
 pub struct Sampler {
     pixel_seed: u32,
     /// The sample index, bit-reversed (the shuffle scrambles reversed bits).
     index_reversed: u32,
     dimension: u32,
+    /// Pairs `0..cached` have their seeds in `seeds`.
+    cached: u32,
+    /// Per pair: the index shuffle's seed and the two coordinates' seeds.
+    seeds: [PairSeeds; CACHED_PAIRS],
+}
+
+/// One dimension pair's scramble seeds: the index shuffle's, then each
+/// coordinate's (Burley 2020, listing 3).
+#[derive(Clone, Copy, Debug, Default)]
+struct PairSeeds {
+    shuffle: u32,
+    first: u32,
+    second: u32,
+}
+
+impl PairSeeds {
+    #[inline]
+    fn new(pixel_seed: u32, dimension: u32) -> Self {
+        let shuffle = hash_combine(pixel_seed, dimension);
+        PairSeeds {
+            shuffle,
+            first: hash_combine(shuffle, 1),
+            second: hash_combine(shuffle, 2),
+        }
+    }
 }
 
 impl Sampler {
@@ -131,7 +165,17 @@ impl Sampler {
             pixel_seed,
             index_reversed: index.reverse_bits(),
             dimension: 0,
+            cached: 0,
+            seeds: [PairSeeds::default(); CACHED_PAIRS],
         }
+    }
+
+    /// Restarts the stream at dimension 0 of sample `index` of the same
+    /// pixel: the points are [`Sampler::new`]'s for that index.
+    #[inline]
+    pub fn start_sample(&mut self, index: u32) {
+        self.index_reversed = index.reverse_bits();
+        self.dimension = 0;
     }
 
     /// Next point of the scrambled (0, 2)-sequence in [0,1)².
@@ -143,36 +187,47 @@ impl Sampler {
     /// with reversed tables, so only three reversals remain.
     #[inline]
     pub fn next_2d(&mut self) -> [f32; 2] {
-        let (dim_seed, y) = self.next_pair();
-        let b = laine_karras_permutation(sobol_dim1_reversed(y), hash_combine(dim_seed, 2))
-            .reverse_bits();
-        [Self::first(dim_seed, y), to_unit_float(b)]
+        let (seeds, y) = self.next_pair();
+        let b = laine_karras_permutation(sobol_dim1_reversed(y), seeds.second).reverse_bits();
+        [Self::first(seeds, y), to_unit_float(b)]
     }
 
     /// Next value in [0,1): the first coordinate of the next 2-D point
     /// (the second is not computed).
     #[inline]
     pub fn next_1d(&mut self) -> f32 {
-        let (dim_seed, y) = self.next_pair();
-        Self::first(dim_seed, y)
+        let (seeds, y) = self.next_pair();
+        Self::first(seeds, y)
     }
 
-    /// The next dimension pair's seed and shuffled, reversed index `y`.
+    /// The next dimension pair's seeds and shuffled, reversed index `y`.
     #[inline(always)]
-    fn next_pair(&mut self) -> (u32, u32) {
-        let dim_seed = hash_combine(self.pixel_seed, self.dimension);
+    fn next_pair(&mut self) -> (PairSeeds, u32) {
+        let d = self.dimension as usize;
+        let seeds = if d < self.cached as usize {
+            self.seeds[d]
+        } else {
+            // Dimensions are drawn in order, so here d = cached, or d is
+            // past the kept pairs.
+            debug_assert_eq!(d.min(CACHED_PAIRS), self.cached as usize);
+            let seeds = PairSeeds::new(self.pixel_seed, self.dimension);
+            if d < CACHED_PAIRS {
+                self.seeds[d] = seeds;
+                self.cached += 1;
+            }
+            seeds
+        };
         self.dimension += 1;
         (
-            dim_seed,
-            laine_karras_permutation(self.index_reversed, dim_seed),
+            seeds,
+            laine_karras_permutation(self.index_reversed, seeds.shuffle),
         )
     }
 
     /// Dimension 0 of the pair: `R(LK(i'))` with `y = R(i')`.
     #[inline(always)]
-    fn first(dim_seed: u32, y: u32) -> f32 {
-        let a =
-            laine_karras_permutation(y.reverse_bits(), hash_combine(dim_seed, 1)).reverse_bits();
+    fn first(seeds: PairSeeds, y: u32) -> f32 {
+        let a = laine_karras_permutation(y.reverse_bits(), seeds.first).reverse_bits();
         to_unit_float(a)
     }
 }
@@ -319,6 +374,40 @@ mod tests {
             strata[(x * 16.0) as usize] += 1;
         }
         assert_eq!(strata, [1; 16]);
+    }
+
+    /// A sampler moved on with `start_sample` draws exactly the points a
+    /// new sampler of that pixel and index draws: the kept seeds belong to
+    /// the pixel, not to a sample. Past the kept pairs too, with streams of
+    /// different lengths (a path that ends early keeps fewer).
+    #[test]
+    fn restarted_samples_match_new_ones() {
+        let pairs = CACHED_PAIRS as u32 + 8;
+        let mut reused = Sampler::new(12, 34, 0, 77);
+        for index in 0..40u32 {
+            reused.start_sample(index);
+            let mut fresh = Sampler::new(12, 34, index, 77);
+            let drawn = (index * 7) % pairs + 1;
+            for d in 0..drawn {
+                if d % 3 == 0 {
+                    assert_eq!(reused.next_1d(), fresh.next_1d(), "index {index}, pair {d}");
+                } else {
+                    assert_eq!(reused.next_2d(), fresh.next_2d(), "index {index}, pair {d}");
+                }
+            }
+        }
+        // And against the definition, pair by pair, for a sampler that has
+        // kept every pair's seeds.
+        let mut s = Sampler::new(5, 6, 0, 8);
+        for _ in 0..pairs {
+            s.next_2d();
+        }
+        for index in [1u32, 2, 1000, 123_456] {
+            s.start_sample(index);
+            for d in 0..pairs {
+                assert_eq!(s.next_2d(), next_2d_by_definition(s.pixel_seed, index, d));
+            }
+        }
     }
 
     #[test]
