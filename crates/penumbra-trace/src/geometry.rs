@@ -326,14 +326,15 @@ impl SceneGeometry {
         let src = self.sources[triangle as usize];
         let mesh = &scene.meshes[scene.instances[src.instance as usize].mesh];
         let idx = mesh.indices[src.local as usize];
-        [0, 1].map(|set| match mesh.uv_set(set) {
+        let at = |set| match mesh.uv_set(set) {
             Some(uv) => {
                 uv[idx[0] as usize] * (1.0 - b1 - b2)
                     + uv[idx[1] as usize] * b1
                     + uv[idx[2] as usize] * b2
             }
             None => Vec2::new(b1, b2),
-        })
+        };
+        [at(0), at(1)]
     }
 
     /// A_uv / A_world of `triangle` for UV sets 0 and 1 (the barycentric

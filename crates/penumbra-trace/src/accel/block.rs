@@ -97,13 +97,13 @@ pub(super) fn intersect4(
     use std::arch::x86_64::*;
     let [kx, ky, kz] = ray.permutation();
     let [sx, sy, sz] = ray.shear();
-    let o = ray.origin();
+    let [okx, oky, okz] = ray.origin_permuted();
     // SAFETY: SSE2 is part of x86-64; `block.v` rows are 4 aligned f32 and
     // the stores go to 4-f32 arrays.
     unsafe {
         let splat = _mm_set1_ps;
         let (sx, sy, sz) = (splat(sx), splat(sy), splat(sz));
-        let (ox, oy, oz) = (splat(o[kx]), splat(o[ky]), splat(o[kz]));
+        let (ox, oy, oz) = (splat(okx), splat(oky), splat(okz));
         // Vertex k sheared: (x, y, z) = (a_kx − sx·a_kz, a_ky − sy·a_kz, sz·a_kz).
         let sheared = |k: usize| {
             let v = &block.v[k];

@@ -18,6 +18,8 @@ use glam::{Vec3, Vec3A};
 #[derive(Clone, Copy, Debug)]
 pub struct WatertightRay {
     origin: Vec3A,
+    /// The origin's coordinates in the order (kx, ky, kz).
+    origin_k: [f32; 3],
     k: [usize; 3],
     s: [f32; 3],
 }
@@ -47,17 +49,19 @@ impl WatertightRay {
         let (kx, ky) = (NEXT_AXIS[kz], NEXT_AXIS[NEXT_AXIS[kz]]);
         let (kx, ky) = if d[kz] < 0.0 { (ky, kx) } else { (kx, ky) };
         let sz = 1.0 / d[kz];
+        let o = origin.to_array();
         Self {
             origin: origin.into(),
+            origin_k: [o[kx], o[ky], o[kz]],
             k: [kx, ky, kz],
             s: [d[kx] * sz, d[ky] * sz, sz],
         }
     }
 
-    /// The ray's origin.
+    /// The origin's coordinates along the axes (kx, ky, kz).
     #[inline(always)]
-    pub(super) fn origin(&self) -> Vec3A {
-        self.origin
+    pub(super) fn origin_permuted(&self) -> [f32; 3] {
+        self.origin_k
     }
 
     /// The axes (kx, ky, kz): kz the direction's dominant one.
