@@ -175,8 +175,10 @@ impl<'a> Prepared<'a> {
                     let hit = self
                         .geometry
                         .surface_point(self.scene, t.triangle, t.b1, t.b2);
+                    // One sampler per texel: its samples share the scramble seeds.
+                    let mut sampler = Sampler::new(x, y + page * h, 0, seed);
                     for s in 0..samples {
-                        let mut sampler = Sampler::new(x, y + page * h, s, seed);
+                        sampler.start_sample(s);
                         values.fill(Rgb::ZERO);
                         sample(&hit, &mut sampler, &mut values);
                         for (tile, &v) in tiles.iter_mut().zip(&values) {
