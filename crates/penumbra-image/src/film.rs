@@ -48,10 +48,41 @@ pub(crate) struct PixelStats {
     pub(crate) sum_sq: DVec3,
 }
 
-/// `v` in units of 2⁻⁴⁸, rounded to the nearest integer (the one rounding
-/// of a sample; f32 values of magnitude 2⁻²⁴ or more are exact).
+/// `v` in units of 2⁻⁴⁸, rounded to the nearest integer, ties away from
+/// zero (the one rounding of a sample; f32 values of magnitude 2⁻²⁴ or more
+/// are exact): `round(v · 2⁴⁸)`, computed on the bits. With `v = ±m ·
+/// 2^(e − 150)` (m the 24-bit significand, e the biased exponent; e = 1
+/// with no implicit bit for subnormals), `v · 2⁴⁸ = ±m · 2^(e − 102)`: a
+/// shift left, or right with the half added first. No float rounding and
+/// no 128-bit conversion call, which cost 1.4 % of a path sample. `v`
+/// must be accepted ([`accepted`]: finite, |v| < 2⁴⁶).
 fn to_fixed(v: f32) -> i128 {
-    (f64::from(v) * f64::powi(2.0, FIXED_POINT_BITS)).round() as i128
+    let bits = v.to_bits();
+    let biased = (bits >> 23) & 0xff;
+    let fraction = bits & 0x7f_ffff;
+    let (m, e) = if biased == 0 {
+        (fraction, 1)
+    } else {
+        (fraction | 0x80_0000, biased)
+    };
+    debug_assert!(e < 127 + 46, "{v} is not an accepted sample");
+    let shift = e as i32 - (150 - FIXED_POINT_BITS);
+    let magnitude = if shift >= 0 {
+        i128::from(m) << shift
+    } else {
+        // Past a right shift of 24, m < 2²⁴ ≤ half: the result is 0.
+        let right = shift.unsigned_abs();
+        if right > 24 {
+            0
+        } else {
+            i128::from((m + (1 << (right - 1))) >> right)
+        }
+    };
+    if bits >> 31 == 0 {
+        magnitude
+    } else {
+        -magnitude
+    }
 }
 
 fn from_fixed(v: i128) -> f64 {
@@ -393,6 +424,52 @@ impl FilmTile {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `to_fixed` on the bits against its definition in f64 (`round(v ·
+    /// 2⁴⁸)`, exact in f64 for an f32 v): every exponent an accepted
+    /// sample can have, both signs, zeros, subnormals, the largest
+    /// accepted magnitude, and values that fall exactly halfway between
+    /// two multiples of 2⁻⁴⁸ (rounded away from zero).
+    #[test]
+    fn fixed_point_matches_rounding_in_f64() {
+        let by_f64 = |v: f32| (f64::from(v) * f64::powi(2.0, FIXED_POINT_BITS)).round() as i128;
+        let mut x = 12345u32;
+        let mut next = || {
+            x ^= x << 13;
+            x ^= x >> 17;
+            x ^= x << 5;
+            x
+        };
+        let mut values = vec![
+            0.0f32,
+            -0.0,
+            f32::MIN_POSITIVE,
+            f32::from_bits(1),
+            -f32::from_bits(1),
+        ];
+        values.push(f32::from_bits((127 + 46) << 23).next_down());
+        for biased in 0..(127 + 46) {
+            for _ in 0..200 {
+                let bits = (biased << 23) | (next() & 0x7f_ffff) | (next() & 1) << 31;
+                values.push(f32::from_bits(bits));
+            }
+        }
+        // Halfway cases: k + ½ units of 2⁻⁴⁸ for small k (exponents where
+        // the last significand bit is worth ½ unit).
+        for k in [0u32, 1, 2, 3, 1000, (1 << 22) + 7] {
+            let v = (k as f32 + 0.5) * f32::powi(2.0, -FIXED_POINT_BITS);
+            assert_eq!(
+                f64::from(v) * f64::powi(2.0, FIXED_POINT_BITS),
+                k as f64 + 0.5
+            );
+            values.push(v);
+            values.push(-v);
+        }
+        for v in values {
+            assert!(accepted(Rgb::splat(v)), "{v}");
+            assert_eq!(to_fixed(v), by_f64(v), "{v:e} ({:#010x})", v.to_bits());
+        }
+    }
 
     fn close(a: f32, b: f64, tol: f64) -> bool {
         (f64::from(a) - b).abs() <= tol * b.abs().max(1e-12)
