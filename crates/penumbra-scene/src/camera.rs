@@ -74,24 +74,73 @@ impl Camera {
     /// Primary ray for film position (`sx`, `sy`) in pixels (continuous,
     /// (0,0) = top-left corner) of a `width`×`height` image: (origin, unit dir).
     pub fn generate_ray(&self, sx: f32, sy: f32, width: u32, height: u32) -> (Vec3, Vec3) {
-        let aspect = width as f32 / height as f32;
+        self.film(width, height).ray(sx, sy)
+    }
+
+    /// The primary rays of a `width`×`height` image, with what they share
+    /// computed once (a render asks for millions).
+    pub fn film(&self, width: u32, height: u32) -> FilmRays {
+        let (w, h) = (width as f32, height as f32);
+        let shared = match self.projection {
+            Projection::Perspective { fov_y } => Shared::Perspective {
+                tan_half_fov: (0.5 * fov_y).tan(),
+                origin: self.camera_to_world.transform_point3(Vec3::ZERO),
+            },
+            Projection::Orthographic { height } => Shared::Orthographic {
+                height,
+                direction: self.camera_to_world.transform_vector3(-Vec3::Z).normalize(),
+            },
+        };
+        FilmRays {
+            camera_to_world: self.camera_to_world,
+            width: w,
+            height: h,
+            aspect: w / h,
+            shared,
+        }
+    }
+}
+
+/// [`Camera::generate_ray`] for one image size: the field of view's
+/// tangent, the aspect ratio and the perspective origin (or the
+/// orthographic direction) computed once.
+#[derive(Clone, Copy, Debug)]
+pub struct FilmRays {
+    camera_to_world: Mat4,
+    width: f32,
+    height: f32,
+    aspect: f32,
+    shared: Shared,
+}
+
+#[derive(Clone, Copy, Debug)]
+enum Shared {
+    Perspective { tan_half_fov: f32, origin: Vec3 },
+    Orthographic { height: f32, direction: Vec3 },
+}
+
+impl FilmRays {
+    /// Primary ray for film position (`sx`, `sy`) in pixels: (origin,
+    /// unit direction), as [`Camera::generate_ray`].
+    pub fn ray(&self, sx: f32, sy: f32) -> (Vec3, Vec3) {
+        let aspect = self.aspect;
         // Normalised device coordinates in [-1, 1], y up.
-        let nx = 2.0 * sx / width as f32 - 1.0;
-        let ny = 1.0 - 2.0 * sy / height as f32;
-        match self.projection {
-            Projection::Perspective { fov_y } => {
-                let t = (0.5 * fov_y).tan();
+        let nx = 2.0 * sx / self.width - 1.0;
+        let ny = 1.0 - 2.0 * sy / self.height;
+        match self.shared {
+            Shared::Perspective {
+                tan_half_fov: t,
+                origin,
+            } => {
                 let d = Vec3::new(nx * t * aspect, ny * t, -1.0);
-                let o = self.camera_to_world.transform_point3(Vec3::ZERO);
-                (o, self.camera_to_world.transform_vector3(d).normalize())
-            }
-            Projection::Orthographic { height } => {
-                let p = Vec3::new(nx * 0.5 * height * aspect, ny * 0.5 * height, 0.0);
-                let o = self.camera_to_world.transform_point3(p);
                 (
-                    o,
-                    self.camera_to_world.transform_vector3(-Vec3::Z).normalize(),
+                    origin,
+                    self.camera_to_world.transform_vector3(d).normalize(),
                 )
+            }
+            Shared::Orthographic { height, direction } => {
+                let p = Vec3::new(nx * 0.5 * height * aspect, ny * 0.5 * height, 0.0);
+                (self.camera_to_world.transform_point3(p), direction)
             }
         }
     }
@@ -100,6 +149,32 @@ impl Camera {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// An orthographic view 4 high of a 100×50 image (so 8 wide) from
+    /// (1, 2, 3) along −z: the corners' rays start 4 and 2 from the centre,
+    /// all rays point along −z, and a second image size changes the
+    /// spacing, not the view.
+    #[test]
+    fn orthographic_rays_start_on_the_view_rectangle() {
+        let c = Camera::look_at(
+            Vec3::new(1.0, 2.0, 3.0),
+            Vec3::new(1.0, 2.0, 0.0),
+            Vec3::Y,
+            Projection::Orthographic { height: 4.0 },
+        );
+        for (sx, sy, expected) in [
+            (50.0, 25.0, Vec3::new(1.0, 2.0, 3.0)),
+            (0.0, 0.0, Vec3::new(-3.0, 4.0, 3.0)),
+            (100.0, 50.0, Vec3::new(5.0, 0.0, 3.0)),
+            (75.0, 0.0, Vec3::new(3.0, 4.0, 3.0)),
+        ] {
+            let (o, d) = c.generate_ray(sx, sy, 100, 50);
+            assert!((o - expected).length() < 1e-5, "({sx}, {sy}): {o}");
+            assert!((d - Vec3::NEG_Z).length() < 1e-6, "{d}");
+        }
+        let (o, _) = c.film(200, 100).ray(0.0, 0.0);
+        assert!((o - Vec3::new(-3.0, 4.0, 3.0)).length() < 1e-5, "{o}");
+    }
 
     #[test]
     fn centre_ray_points_at_target_and_fov_edges() {
@@ -118,5 +193,10 @@ mod tests {
         assert!(top.y > 0.0, "row 0 is the top");
         let (_, right) = c.generate_ray(100.0, 50.0, 100, 100);
         assert!(right.x > 0.0);
+        // A 2:1 image: the right edge is at tan θ = 2 tan(½ fov_y).
+        let (_, right) = c.generate_ray(200.0, 50.0, 200, 100);
+        let expected = (2.0 * (fov / 2.0).tan()).atan();
+        assert!((right.angle_between(d) - expected).abs() < 1e-5, "{right}");
+        assert!(right.x > 0.0 && right.y.abs() < 1e-6);
     }
 }

@@ -23,7 +23,7 @@ pub mod settings;
 pub mod tangents;
 pub mod texture;
 
-pub use camera::{Camera, Projection};
+pub use camera::{Camera, FilmRays, Projection};
 pub use environment::{EnvironmentChoice, LightCount, apply_environment};
 pub use error::{Location, SceneError};
 pub use fingerprint::{Fnv1a, fingerprint};

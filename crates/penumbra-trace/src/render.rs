@@ -335,6 +335,7 @@ fn render_tile(
         Vec::new()
     };
     let mut hits = vec![0u32; (r.w * r.h) as usize];
+    let film = camera.film(settings.width, settings.height);
     for y in r.y0..r.y0 + r.h {
         for x in r.x0..r.x0 + r.w {
             // One sampler per pixel: its samples share the scramble seeds.
@@ -342,12 +343,7 @@ fn render_tile(
             for s in s0..s1 {
                 sampler.start_sample(s);
                 let [jx, jy] = sampler.next_2d();
-                let (o, d) = camera.generate_ray(
-                    x as f32 + jx,
-                    y as f32 + jy,
-                    settings.width,
-                    settings.height,
-                );
+                let (o, d) = film.ray(x as f32 + jx, y as f32 + jy);
                 let result = ctx.li(&crate::ray::Ray::new(o, d), &mut sampler);
                 // A NaN or infinite sample would poison the pixel's mean; it
                 // is a bug elsewhere, but one bad sample must not ruin an image.
