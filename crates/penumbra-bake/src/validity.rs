@@ -35,10 +35,11 @@ pub fn backface_fractions(scene: &Scene, geometry: &SceneGeometry, texels: &Texe
             let frame = Frame::from_normal(hit.ng);
             let origin = offset_ray_origin(hit.p, hit.ng);
             let mut back = 0u32;
+            // A seed apart from the bakes' own (their samplers use seed 0
+            // and up) so the test and the estimate are independent.
+            let mut sampler = Sampler::new(t.x, t.y + t.page * h, 0, 0x5eed_ba6e);
             for s in 0..VALIDITY_RAYS {
-                // A seed apart from the bakes' own (their samplers use seed
-                // 0 and up) so the test and the estimate are independent.
-                let mut sampler = Sampler::new(t.x, t.y + t.page * h, s, 0x5eed_ba6e);
+                sampler.start_sample(s);
                 let d = frame.to_world(square_to_cosine_hemisphere(sampler.next_2d()));
                 if let Some(h) = geometry.intersect(scene, &Ray::new(origin, d))
                     && h.light.is_none()

@@ -75,8 +75,9 @@ pub(crate) fn direct_from_non_patch_lights(
                 geometry: &prep.geometry,
                 sum: Rgb::ZERO,
             };
+            let mut sampler = Sampler::new(t.x, t.y + t.page * page_h, 0, seed);
             for s in 0..FIRST_SHOT_SAMPLES {
-                let mut sampler = Sampler::new(t.x, t.y + t.page * page_h, s, seed);
+                sampler.start_sample(s);
                 let u_pick = sampler.next_1d();
                 let (triangle, b) = sample_footprint(pieces, patch.area, u_pick, sampler.next_2d());
                 let hit = prep.geometry.surface_point(prep.scene, triangle, b.x, b.y);

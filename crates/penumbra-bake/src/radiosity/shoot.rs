@@ -234,27 +234,32 @@ fn trace_shot(
     (0..k_rays as u32)
         .into_par_iter()
         .with_min_len(RAYS_PER_TASK)
-        .map(|r| {
-            let mut sampler = Sampler::new(i as u32, shot, r, seed);
-            let u_pick = sampler.next_1d();
-            let (triangle, b) = sample_footprint(pieces, area, u_pick, sampler.next_2d());
-            let [p0, p1, p2] = geometry.triangles[triangle as usize];
-            let p = p0 * (1.0 - b.x - b.y) + p1 * b.x + p2 * b.y;
-            let n = geometry.front_normal_scaled(triangle).normalize() * side;
-            let dir =
-                Frame::from_normal(n).to_world(square_to_cosine_hemisphere(sampler.next_2d()));
-            let ray = Ray::new(offset_ray_origin(p, n), dir);
-            let Some(hit) = geometry.intersect(scene, &ray) else {
-                return NONE;
-            };
-            if hit.light.is_some() || hit.ng.dot(dir) >= 0.0 {
-                return NONE;
-            }
-            match prep.atlas.locate(scene, geometry, &hit) {
-                Some((page, uv)) => patches.patch_at(&prep.atlas, page, uv),
-                None => NONE,
-            }
-        })
+        // One sampler per task, moved from ray to ray (the same points as
+        // a new one per ray, without its set-up).
+        .map_init(
+            || Sampler::new(i as u32, shot, 0, seed),
+            |sampler, r| {
+                sampler.start_sample(r);
+                let u_pick = sampler.next_1d();
+                let (triangle, b) = sample_footprint(pieces, area, u_pick, sampler.next_2d());
+                let [p0, p1, p2] = geometry.triangles[triangle as usize];
+                let p = p0 * (1.0 - b.x - b.y) + p1 * b.x + p2 * b.y;
+                let n = geometry.front_normal_scaled(triangle).normalize() * side;
+                let dir =
+                    Frame::from_normal(n).to_world(square_to_cosine_hemisphere(sampler.next_2d()));
+                let ray = Ray::new(offset_ray_origin(p, n), dir);
+                let Some(hit) = geometry.intersect(scene, &ray) else {
+                    return NONE;
+                };
+                if hit.light.is_some() || hit.ng.dot(dir) >= 0.0 {
+                    return NONE;
+                }
+                match prep.atlas.locate(scene, geometry, &hit) {
+                    Some((page, uv)) => patches.patch_at(&prep.atlas, page, uv),
+                    None => NONE,
+                }
+            },
+        )
         .filter(|&j| j != NONE)
         .collect()
 }

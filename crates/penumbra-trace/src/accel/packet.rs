@@ -419,23 +419,8 @@ pub(super) fn closest_hits_packets<'a>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::accel::wide::Wide;
+    use crate::accel::wide::{TEST_BOXES, Wide};
     use glam::Vec3;
-
-    /// A node whose eight slots hold boxes around the origin of several
-    /// sizes and places, one of them flat, and one empty slot.
-    fn node() -> Node8 {
-        let boxes: [([f32; 3], [f32; 3]); 7] = [
-            ([1.0; 3], [2.0; 3]),
-            ([-3.0, -0.5, -0.5], [-2.0, 0.5, 0.5]),
-            ([-1.0; 3], [1.0; 3]),
-            ([1.0, 5.0, 1.0], [2.0, 6.0, 2.0]),
-            ([4.0; 3], [5.0; 3]),
-            ([-6.0, -6.0, 0.0], [6.0, 6.0, 0.0]),
-            ([-2.0, 1.0, -4.0], [-1.0, 3.0, -3.0]),
-        ];
-        Node8::with_boxes(&boxes)
-    }
 
     /// Every lane of the packet box test gives the single-ray test's entry
     /// distance and hit bit for its ray, slot by slot, with each kernel:
@@ -444,7 +429,7 @@ mod tests {
     #[test]
     fn lanes_match_the_single_ray_box_test() {
         let wide = Wide::default();
-        let node = node();
+        let node = Node8::with_boxes(&TEST_BOXES);
         let mut queries = Vec::new();
         let centres = [
             Vec3::splat(1.5),

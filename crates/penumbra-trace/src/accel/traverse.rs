@@ -642,6 +642,7 @@ pub(super) fn any_hit(kernel: Kernel, q: &Query, keep: &impl Fn(usize, f32, f32)
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::accel::wide::TEST_BOXES;
 
     /// The kernels offered are the CPU's: always the portable one, AVX2
     /// and AVX-512 exactly when the CPU reports them (tests that loop over the kernels
@@ -667,44 +668,34 @@ mod tests {
         }
     }
 
-    /// A node with five boxes and three empty slots.
-    fn node() -> Node8 {
-        let boxes: [([f32; 3], [f32; 3]); 5] = [
-            ([1.0; 3], [2.0; 3]),
-            ([-3.0, -0.5, -0.5], [-2.0, 0.5, 0.5]),
-            ([-1.0; 3], [1.0; 3]),
-            ([1.0, 5.0, 1.0], [2.0, 6.0, 2.0]),
-            ([4.0; 3], [5.0; 3]),
-        ];
-        Node8::with_boxes(&boxes)
-    }
-
     /// Entry distances and hit masks against the closed form, along the
     /// diagonal both ways (so both plane choices are used): from the origin
     /// along +(1,1,1)/√3 the ray enters [1,2]³ at √3, starts inside
     /// [−1,1]³ (entry clamped to 0) and reaches [4,5]³ only at 4√3, beyond
-    /// tmax = 5; from (3,3,3) along −(1,1,1)/√3 it enters [1,2]³ at √3 and
-    /// [−1,1]³ at 2√3. The other boxes lie off the diagonal.
+    /// tmax = 5, and it starts on the flat box z = 0 (entry 0); from
+    /// (3,3,3) along −(1,1,1)/√3 it enters [1,2]³ at √3 and [−1,1]³ at
+    /// 2√3, and reaches z = 0 only at 3√3, beyond tmax. The other boxes lie
+    /// off the diagonal.
     #[test]
     fn slab_gives_closed_form_entry_distances() {
-        let n = node();
+        let n = Node8::with_boxes(&TEST_BOXES);
         let s3 = 3f32.sqrt();
         let d = Vec3::ONE / s3;
         let cases = [
-            (Vec3::ZERO, d, 0b00101, [(0, s3), (2, 0.0)]),
-            (Vec3::splat(3.0), -d, 0b00101, [(0, s3), (2, 2.0 * s3)]),
+            (Vec3::ZERO, d, 0b100101, vec![(0, s3), (2, 0.0), (5, 0.0)]),
+            (Vec3::splat(3.0), -d, 0b000101, vec![(0, s3), (2, 2.0 * s3)]),
         ];
         for avx2 in [false, Kernel::Avx2.is_supported()] {
-            for (o, dir, mask, entries) in cases {
-                let r = BoxRay::new(o, dir);
+            for (o, dir, mask, entries) in &cases {
+                let r = BoxRay::new(*o, *dir);
                 let mut t = [f32::NAN; WIDTH];
                 let m = if avx2 {
                     slab::<true>(&n, &r, 5.0, &mut t)
                 } else {
                     slab::<false>(&n, &r, 5.0, &mut t)
                 };
-                assert_eq!(m, mask, "avx2 {avx2} from {o}: {m:#b}");
-                for (slot, expected) in entries {
+                assert_eq!(m, *mask, "avx2 {avx2} from {o}: {m:#b}");
+                for &(slot, expected) in entries {
                     assert!(
                         (t[slot] - expected).abs() < 1e-5,
                         "avx2 {avx2} slot {slot}: {t:?}"

@@ -17,7 +17,6 @@ use glam::{Vec3, Vec3A};
 /// triangle that shares it.
 #[derive(Clone, Copy, Debug)]
 pub struct WatertightRay {
-    origin: Vec3A,
     /// The origin's coordinates in the order (kx, ky, kz).
     origin_k: [f32; 3],
     k: [usize; 3],
@@ -51,7 +50,6 @@ impl WatertightRay {
         let sz = 1.0 / d[kz];
         let o = origin.to_array();
         Self {
-            origin: origin.into(),
             origin_k: [o[kx], o[ky], o[kz]],
             k: [kx, ky, kz],
             s: [d[kx] * sz, d[ky] * sz, sz],
@@ -87,9 +85,11 @@ impl WatertightRay {
     pub fn intersect_a(&self, p0: Vec3A, p1: Vec3A, p2: Vec3A, tmax: f32) -> Option<TriangleHit> {
         let [kx, ky, kz] = self.k;
         let [sx, sy, sz] = self.s;
+        let [okx, oky, okz] = self.origin_k;
         let sheared = |p: Vec3A| {
-            let a = (p - self.origin).to_array();
-            (a[kx] - sx * a[kz], a[ky] - sy * a[kz], sz * a[kz])
+            let p = p.to_array();
+            let (ax, ay, az) = (p[kx] - okx, p[ky] - oky, p[kz] - okz);
+            (ax - sx * az, ay - sy * az, sz * az)
         };
         let (ax, ay, az) = sheared(p0);
         let (bx, by, bz) = sheared(p1);

@@ -39,6 +39,20 @@ pub(super) struct Node8 {
     pub child: [u32; WIDTH],
 }
 
+/// Seven boxes (min, max corners) of several sizes and places around the
+/// origin, one of them flat (z = 0), for the box tests' tests: with
+/// [`Node8::with_boxes`], a node whose eighth slot is empty.
+#[cfg(test)]
+pub(super) const TEST_BOXES: [([f32; 3], [f32; 3]); 7] = [
+    ([1.0; 3], [2.0; 3]),
+    ([-3.0, -0.5, -0.5], [-2.0, 0.5, 0.5]),
+    ([-1.0; 3], [1.0; 3]),
+    ([1.0, 5.0, 1.0], [2.0, 6.0, 2.0]),
+    ([4.0; 3], [5.0; 3]),
+    ([-6.0, -6.0, 0.0], [6.0, 6.0, 0.0]),
+    ([-2.0, 1.0, -4.0], [-1.0, 3.0, -3.0]),
+];
+
 impl Node8 {
     const EMPTY: Node8 = Node8 {
         bounds: [
