@@ -3,6 +3,7 @@
 
 pub mod distribution;
 mod sobol;
+mod sobol_block;
 mod warp;
 
 pub use distribution::{Distribution1D, Distribution2D};

@@ -7,23 +7,32 @@
 //! that pairs of dimensions are decorrelated. The sequence depends only on
 //! (pixel, sample index, dimension, seed), never on the thread that asks.
 
+use super::sobol_block::{Avx2, BLOCK, SeedBlock};
+
 /// A fast 32-bit integer hash (Wellons' "lowbias32").
 #[inline]
 pub fn hash_u32(mut x: u32) -> u32 {
+    let [m1, m2] = LOWBIAS_MULTIPLIERS;
     x ^= x >> 16;
-    x = x.wrapping_mul(0x7feb_352d);
+    x = x.wrapping_mul(m1);
     x ^= x >> 15;
-    x = x.wrapping_mul(0x846c_a68b);
+    x = x.wrapping_mul(m2);
     x ^= x >> 16;
     x
 }
+
+/// The multipliers of [`hash_u32`].
+pub(super) const LOWBIAS_MULTIPLIERS: [u32; 2] = [0x7feb_352d, 0x846c_a68b];
+
+/// The constant [`hash_combine`] adds: 2³² divided by the golden ratio.
+pub(super) const GOLDEN: u32 = 0x9e37_79b9;
 
 /// Combines a hash with another value (boost-style, then rehashed).
 #[inline]
 pub fn hash_combine(seed: u32, v: u32) -> u32 {
     hash_u32(
         seed ^ v
-            .wrapping_add(0x9e37_79b9)
+            .wrapping_add(GOLDEN)
             .wrapping_add(seed << 6)
             .wrapping_add(seed >> 2),
     )
@@ -34,12 +43,15 @@ pub fn hash_combine(seed: u32, v: u32) -> u32 {
 #[inline]
 fn laine_karras_permutation(mut x: u32, seed: u32) -> u32 {
     x = x.wrapping_add(seed);
-    x ^= x.wrapping_mul(0x6c50_b47c);
-    x ^= x.wrapping_mul(0xb82f_1e52);
-    x ^= x.wrapping_mul(0xc7af_e638);
-    x ^= x.wrapping_mul(0x8d22_f6e6);
+    for m in LK_MULTIPLIERS {
+        x ^= x.wrapping_mul(m);
+    }
     x
 }
+
+/// The multipliers of [`laine_karras_permutation`]'s four `x ^= x * m`
+/// steps (even, so each step is a bijection that only carries bits upward).
+pub(super) const LK_MULTIPLIERS: [u32; 4] = [0x6c50_b47c, 0xb82f_1e52, 0xc7af_e638, 0x8d22_f6e6];
 
 /// Owen scramble of a 32-bit fixed-point value (the definition the tests
 /// check the sampler against).
@@ -113,8 +125,9 @@ fn to_unit_float(x: u32) -> f32 {
 
 /// Dimension pairs whose scramble seeds a [`Sampler`] keeps for the next
 /// sample of its pixel (a depth-8 path draws at most 36: one for the
-/// camera ray, five a bounce).
-const CACHED_PAIRS: usize = 64;
+/// camera ray, five a bounce), in blocks of [`BLOCK`].
+const CACHED_BLOCKS: usize = 8;
+const CACHED_PAIRS: usize = CACHED_BLOCKS * BLOCK;
 
 /// Per-pixel, per-sample stream of 2-D points in [0,1)².
 ///
@@ -123,7 +136,9 @@ const CACHED_PAIRS: usize = 64;
 ///
 /// A pair's three scramble seeds depend on the pixel and the dimension only,
 /// so the sampler keeps them: [`Sampler::start_sample`] moves to another
-/// sample of the same pixel without hashing them again.
+/// sample of the same pixel without hashing them again. On a CPU with AVX2
+/// it computes a sample's points eight pairs at a time (`sobol_block.rs`),
+/// the same points as one at a time.
 #[derive(Clone, Debug)]
 pub struct Sampler {
     pixel_seed: u32,
@@ -132,13 +147,16 @@ pub struct Sampler {
     dimension: u32,
     /// Pairs `0..cached` have their seeds in `seeds`.
     cached: u32,
-    /// Per pair: the index shuffle's seed and the two coordinates' seeds.
-    seeds: [PairSeeds; CACHED_PAIRS],
+    /// Pairs `0..ready` of this sample have their points in `points`.
+    ready: u32,
+    blocks: Option<Avx2>,
+    seeds: [SeedBlock; CACHED_BLOCKS],
+    points: [[[f32; 2]; BLOCK]; CACHED_BLOCKS],
 }
 
 /// One dimension pair's scramble seeds: the index shuffle's, then each
 /// coordinate's (Burley 2020, listing 3).
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug)]
 struct PairSeeds {
     shuffle: u32,
     first: u32,
@@ -160,13 +178,20 @@ impl PairSeeds {
 impl Sampler {
     /// Starts the stream of sample `index` of pixel (`x`, `y`) for render `seed`.
     pub fn new(x: u32, y: u32, index: u32, seed: u32) -> Self {
+        Self::with_blocks(x, y, index, seed, Avx2::detect())
+    }
+
+    fn with_blocks(x: u32, y: u32, index: u32, seed: u32, blocks: Option<Avx2>) -> Self {
         let pixel_seed = hash_combine(hash_combine(hash_u32(seed), x), y);
         Self {
             pixel_seed,
             index_reversed: index.reverse_bits(),
             dimension: 0,
             cached: 0,
-            seeds: [PairSeeds::default(); CACHED_PAIRS],
+            ready: 0,
+            blocks,
+            seeds: [SeedBlock::default(); CACHED_BLOCKS],
+            points: [[[0.0; 2]; BLOCK]; CACHED_BLOCKS],
         }
     }
 
@@ -176,6 +201,7 @@ impl Sampler {
     pub fn start_sample(&mut self, index: u32) {
         self.index_reversed = index.reverse_bits();
         self.dimension = 0;
+        self.ready = 0;
     }
 
     /// Next point of the scrambled (0, 2)-sequence in [0,1)².
@@ -187,48 +213,76 @@ impl Sampler {
     /// with reversed tables, so only three reversals remain.
     #[inline]
     pub fn next_2d(&mut self) -> [f32; 2] {
-        let (seeds, y) = self.next_pair();
-        let b = laine_karras_permutation(sobol_dim1_reversed(y), seeds.second).reverse_bits();
-        [Self::first(seeds, y), to_unit_float(b)]
+        let d = self.dimension as usize;
+        self.dimension += 1;
+        if d < self.ready as usize {
+            return self.points.as_flattened()[d];
+        }
+        self.compute(d, true)
     }
 
-    /// Next value in [0,1): the first coordinate of the next 2-D point
-    /// (the second is not computed).
+    /// Next value in [0,1): the first coordinate of the next 2-D point.
     #[inline]
     pub fn next_1d(&mut self) -> f32 {
-        let (seeds, y) = self.next_pair();
-        Self::first(seeds, y)
-    }
-
-    /// The next dimension pair's seeds and shuffled, reversed index `y`.
-    #[inline(always)]
-    fn next_pair(&mut self) -> (PairSeeds, u32) {
         let d = self.dimension as usize;
-        let seeds = if d < self.cached as usize {
-            self.seeds[d]
-        } else {
-            // Dimensions are drawn in order, so here d = cached, or d is
-            // past the kept pairs.
-            debug_assert_eq!(d.min(CACHED_PAIRS), self.cached as usize);
-            let seeds = PairSeeds::new(self.pixel_seed, self.dimension);
-            if d < CACHED_PAIRS {
-                self.seeds[d] = seeds;
-                self.cached += 1;
-            }
-            seeds
-        };
         self.dimension += 1;
-        (
-            seeds,
-            laine_karras_permutation(self.index_reversed, seeds.shuffle),
-        )
+        if d < self.ready as usize {
+            return self.points.as_flattened()[d][0];
+        }
+        self.compute(d, false)[0]
     }
 
-    /// Dimension 0 of the pair: `R(LK(i'))` with `y = R(i')`.
+    /// Pair `d`'s point when it is not ready: the block it starts, or on
+    /// its own (the second coordinate only if `second`, else 0).
+    #[inline(never)]
+    fn compute(&mut self, d: usize, second: bool) -> [f32; 2] {
+        if d >= CACHED_PAIRS {
+            return self.point(PairSeeds::new(self.pixel_seed, d as u32), second);
+        }
+        // Dimensions are drawn in order, so a block is computed when its
+        // first pair is drawn, and a pair alone after the one before it.
+        let (b, lane) = (d / BLOCK, d % BLOCK);
+        match self.blocks {
+            Some(kernel) => {
+                debug_assert_eq!((d, lane), (self.ready as usize, 0));
+                if self.cached as usize <= d {
+                    kernel.seeds(self.pixel_seed, d as u32, &mut self.seeds[b]);
+                    self.cached += BLOCK as u32;
+                }
+                kernel.points(self.index_reversed, &self.seeds[b], &mut self.points[b]);
+                self.ready += BLOCK as u32;
+                self.points[b][0]
+            }
+            None => {
+                let block = &mut self.seeds[b];
+                if self.cached as usize <= d {
+                    debug_assert_eq!(d, self.cached as usize);
+                    let pair = PairSeeds::new(self.pixel_seed, d as u32);
+                    block.shuffle[lane] = pair.shuffle;
+                    block.first[lane] = pair.first;
+                    block.second[lane] = pair.second;
+                    self.cached += 1;
+                }
+                let seeds = PairSeeds {
+                    shuffle: block.shuffle[lane],
+                    first: block.first[lane],
+                    second: block.second[lane],
+                };
+                self.point(seeds, second)
+            }
+        }
+    }
+
+    /// One pair's point, computed alone.
     #[inline(always)]
-    fn first(seeds: PairSeeds, y: u32) -> f32 {
+    fn point(&self, seeds: PairSeeds, second: bool) -> [f32; 2] {
+        let y = laine_karras_permutation(self.index_reversed, seeds.shuffle);
         let a = laine_karras_permutation(y.reverse_bits(), seeds.first).reverse_bits();
-        to_unit_float(a)
+        if !second {
+            return [to_unit_float(a), 0.0];
+        }
+        let b = laine_karras_permutation(sobol_dim1_reversed(y), seeds.second).reverse_bits();
+        [to_unit_float(a), to_unit_float(b)]
     }
 }
 
@@ -406,6 +460,38 @@ mod tests {
             s.start_sample(index);
             for d in 0..pairs {
                 assert_eq!(s.next_2d(), next_2d_by_definition(s.pixel_seed, index, d));
+            }
+        }
+    }
+
+    /// The AVX2 blocks draw the points that the pairs computed one at a
+    /// time draw: the same bits, through blocks, past the kept pairs, with
+    /// first coordinates alone, and after a restart mid-block. Fails on a
+    /// CPU without AVX2 (the blocks would go untested).
+    #[test]
+    fn blocks_match_pairs_computed_alone() {
+        let kernel = Avx2::detect().expect("this test needs an x86-64 CPU with AVX2");
+        let pairs = CACHED_PAIRS as u32 + 12;
+        let mut x = 3u32;
+        for _ in 0..300 {
+            x = hash_u32(x);
+            let (px, py, seed) = (x & 1023, (x >> 10) & 1023, x >> 27);
+            let mut blocks = Sampler::with_blocks(px, py, 0, seed, Some(kernel));
+            let mut alone = Sampler::with_blocks(px, py, 0, seed, None);
+            for s in 0..6 {
+                let index = hash_u32(x ^ s);
+                blocks.start_sample(index);
+                alone.start_sample(index);
+                let drawn = hash_u32(index) % pairs + 1;
+                for d in 0..drawn {
+                    if (d + s) % 3 == 0 {
+                        let (b, a) = (blocks.next_1d(), alone.next_1d());
+                        assert_eq!(b.to_bits(), a.to_bits(), "pair {d} of sample {index}");
+                    } else {
+                        let (b, a) = (blocks.next_2d(), alone.next_2d());
+                        assert_eq!(b.map(f32::to_bits), a.map(f32::to_bits), "pair {d}");
+                    }
+                }
             }
         }
     }
