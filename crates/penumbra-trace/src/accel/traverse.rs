@@ -76,13 +76,12 @@ impl Kernel {
 }
 
 /// The ray as the box test sees it: origin, reciprocal direction, and for
-/// each axis the plane (index into [`Node8::bounds`]) it enters by and the
-/// one it leaves by.
+/// each axis whether it enters a box by the max plane (its reciprocal is
+/// negative) and leaves by the min one.
 struct BoxRay {
     origin: [f32; 3],
     inv: [f32; 3],
-    near: [usize; 3],
-    far: [usize; 3],
+    enters_by_max: [bool; 3],
 }
 
 impl BoxRay {
@@ -92,13 +91,25 @@ impl BoxRay {
     pub fn new(origin: Vec3, direction: Vec3) -> Self {
         let safe = Vec3::select(direction.cmpeq(Vec3::ZERO), Vec3::splat(1e-30), direction);
         let inv = safe.recip();
-        let neg = |a: usize| (inv[a] < 0.0) as usize;
         BoxRay {
             origin: origin.to_array(),
             inv: inv.to_array(),
-            near: [neg(0), 2 + neg(1), 4 + neg(2)],
-            far: [1 - neg(0), 3 - neg(1), 5 - neg(2)],
+            enters_by_max: inv.cmplt(Vec3::ZERO).into(),
         }
+    }
+
+    /// The index in [`Node8::bounds`] (min and max planes of x, y, z) of
+    /// the plane by which the ray enters along `axis`. A bool's index, not
+    /// a stored one, so that the compiler sees it is below 6.
+    #[inline(always)]
+    fn near(&self, axis: usize) -> usize {
+        2 * axis + self.enters_by_max[axis] as usize
+    }
+
+    /// The plane by which the ray leaves along `axis`.
+    #[inline(always)]
+    fn far(&self, axis: usize) -> usize {
+        2 * axis + 1 - self.enters_by_max[axis] as usize
     }
 }
 
@@ -157,7 +168,7 @@ impl<'a> Query<'a> {
     #[inline(always)]
     pub fn box_ray(&self) -> ([f32; 3], [f32; 3], [bool; 3]) {
         let b = &self.boxes;
-        (b.origin, b.inv, b.near.map(|p| p % 2 == 1))
+        (b.origin, b.inv, b.enters_by_max)
     }
 }
 
@@ -208,12 +219,12 @@ fn slab_portable(node: &Node8, r: &BoxRay, tmax: f32, t_enter: &mut [f32; WIDTH]
     let [ix, iy, iz] = r.inv;
     let mut mask = 0;
     for i in 0..WIDTH {
-        let nx = (b[r.near[0]][i] - ox) * ix;
-        let ny = (b[r.near[1]][i] - oy) * iy;
-        let nz = (b[r.near[2]][i] - oz) * iz;
-        let fx = (b[r.far[0]][i] - ox) * ix;
-        let fy = (b[r.far[1]][i] - oy) * iy;
-        let fz = (b[r.far[2]][i] - oz) * iz;
+        let nx = (b[r.near(0)][i] - ox) * ix;
+        let ny = (b[r.near(1)][i] - oy) * iy;
+        let nz = (b[r.near(2)][i] - oz) * iz;
+        let fx = (b[r.far(0)][i] - ox) * ix;
+        let fy = (b[r.far(1)][i] - oy) * iy;
+        let fz = (b[r.far(2)][i] - oz) * iz;
         let t0 = nx.max(ny).max(nz.max(0.0));
         let t1 = fx.min(fy).min(fz.min(tmax));
         t_enter[i] = t0;
@@ -242,12 +253,12 @@ unsafe fn slab_avx2(node: &Node8, r: &BoxRay, tmax: f32, t_enter: &mut [f32; WID
         };
         let [ox, oy, oz] = r.origin;
         let [ix, iy, iz] = r.inv;
-        let nx = plane(r.near[0], ox, ix);
-        let ny = plane(r.near[1], oy, iy);
-        let nz = plane(r.near[2], oz, iz);
-        let fx = plane(r.far[0], ox, ix);
-        let fy = plane(r.far[1], oy, iy);
-        let fz = plane(r.far[2], oz, iz);
+        let nx = plane(r.near(0), ox, ix);
+        let ny = plane(r.near(1), oy, iy);
+        let nz = plane(r.near(2), oz, iz);
+        let fx = plane(r.far(0), ox, ix);
+        let fy = plane(r.far(1), oy, iy);
+        let fz = plane(r.far(2), oz, iz);
         let t0 = _mm256_max_ps(
             _mm256_max_ps(nx, ny),
             _mm256_max_ps(nz, _mm256_setzero_ps()),
