@@ -128,6 +128,13 @@ fn to_unit_float(x: u32) -> f32 {
 /// camera ray, five a bounce), in blocks of [`BLOCK`].
 const CACHED_BLOCKS: usize = 8;
 const CACHED_PAIRS: usize = CACHED_BLOCKS * BLOCK;
+/// The pairs a depth-8 path draws at most: the camera ray's, then five for
+/// each of the seven bounces.
+const DEPTH_8_PAIRS: usize = 1 + 5 * 7;
+const _: () = assert!(
+    CACHED_PAIRS >= DEPTH_8_PAIRS,
+    "a depth-8 path's pairs are kept"
+);
 
 /// Per-pixel, per-sample stream of 2-D points in [0,1)².
 ///
@@ -466,9 +473,11 @@ mod tests {
 
     /// The AVX2 blocks draw the points that the pairs computed one at a
     /// time draw: the same bits, through blocks, past the kept pairs, with
-    /// first coordinates alone, and after a restart mid-block. Fails on a
-    /// CPU without AVX2 (the blocks would go untested).
+    /// first coordinates alone, and after a restart mid-block. Fails on an
+    /// x86-64 CPU without AVX2 (the blocks would go untested); other
+    /// architectures have no blocks.
     #[test]
+    #[cfg(target_arch = "x86_64")]
     fn blocks_match_pairs_computed_alone() {
         let kernel = Avx2::detect().expect("this test needs an x86-64 CPU with AVX2");
         let pairs = CACHED_PAIRS as u32 + 12;
@@ -478,6 +487,7 @@ mod tests {
             let (px, py, seed) = (x & 1023, (x >> 10) & 1023, x >> 27);
             let mut blocks = Sampler::with_blocks(px, py, 0, seed, Some(kernel));
             let mut alone = Sampler::with_blocks(px, py, 0, seed, None);
+            let mut most = 0;
             for s in 0..6 {
                 let index = hash_u32(x ^ s);
                 blocks.start_sample(index);
@@ -492,6 +502,11 @@ mod tests {
                         assert_eq!(b.map(f32::to_bits), a.map(f32::to_bits), "pair {d}");
                     }
                 }
+                // Seeds are hashed once per pixel: for every pair drawn so
+                // far (a whole block at a time), up to the kept pairs.
+                most = most.max(drawn as usize).min(CACHED_PAIRS);
+                assert_eq!(alone.cached as usize, most);
+                assert_eq!(blocks.cached as usize, most.div_ceil(BLOCK) * BLOCK);
             }
         }
     }
