@@ -15,7 +15,9 @@
 # conditional branches per sample and how many of them callgrind's simple
 # simulated predictor mispredicts (a real CPU's predictor does better; on
 # a machine without performance counters, as these are, it is the only
-# view of where branches go wrong, each costing some 15 cycles), and,
+# view of where branches go wrong, each costing some 15 cycles; unlike the
+# instructions, that count moves by about 1 % between runs, as the
+# simulated predictor's tables are indexed by addresses), and,
 # with TOP=n, each binary's n largest functions (exclusive counts, inlined
 # code counted in its caller). Installs valgrind when it is missing.
 set -euo pipefail

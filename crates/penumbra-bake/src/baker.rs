@@ -176,7 +176,7 @@ impl<'a> Prepared<'a> {
                         .geometry
                         .surface_point(self.scene, t.triangle, t.b1, t.b2);
                     // One sampler per texel: its samples share the scramble seeds.
-                    let mut sampler = Sampler::new(x, y + page * h, 0, seed);
+                    let mut sampler = Sampler::for_pixel(x, y + page * h, seed);
                     for s in 0..samples {
                         sampler.start_sample(s);
                         values.fill(Rgb::ZERO);

@@ -37,7 +37,7 @@ pub fn backface_fractions(scene: &Scene, geometry: &SceneGeometry, texels: &Texe
             let mut back = 0u32;
             // A seed apart from the bakes' own (their samplers use seed 0
             // and up) so the test and the estimate are independent.
-            let mut sampler = Sampler::new(t.x, t.y + t.page * h, 0, 0x5eed_ba6e);
+            let mut sampler = Sampler::for_pixel(t.x, t.y + t.page * h, 0x5eed_ba6e);
             for s in 0..VALIDITY_RAYS {
                 sampler.start_sample(s);
                 let d = frame.to_world(square_to_cosine_hemisphere(sampler.next_2d()));

@@ -339,7 +339,7 @@ fn render_tile(
     for y in r.y0..r.y0 + r.h {
         for x in r.x0..r.x0 + r.w {
             // One sampler per pixel: its samples share the scramble seeds.
-            let mut sampler = Sampler::new(x, y, s0, settings.seed);
+            let mut sampler = Sampler::for_pixel(x, y, settings.seed);
             for s in s0..s1 {
                 sampler.start_sample(s);
                 let [jx, jy] = sampler.next_2d();

@@ -75,7 +75,7 @@ pub(crate) fn direct_from_non_patch_lights(
                 geometry: &prep.geometry,
                 sum: Rgb::ZERO,
             };
-            let mut sampler = Sampler::new(t.x, t.y + t.page * page_h, 0, seed);
+            let mut sampler = Sampler::for_pixel(t.x, t.y + t.page * page_h, seed);
             for s in 0..FIRST_SHOT_SAMPLES {
                 sampler.start_sample(s);
                 let u_pick = sampler.next_1d();

@@ -237,7 +237,7 @@ fn trace_shot(
         // One sampler per task, moved from ray to ray (the same points as
         // a new one per ray, without its set-up).
         .map_init(
-            || Sampler::new(i as u32, shot, 0, seed),
+            || Sampler::for_pixel(i as u32, shot, seed),
             |sampler, r| {
                 sampler.start_sample(r);
                 let u_pick = sampler.next_1d();

@@ -185,14 +185,23 @@ impl PairSeeds {
 impl Sampler {
     /// Starts the stream of sample `index` of pixel (`x`, `y`) for render `seed`.
     pub fn new(x: u32, y: u32, index: u32, seed: u32) -> Self {
-        Self::with_blocks(x, y, index, seed, Avx2::detect())
+        let mut sampler = Self::for_pixel(x, y, seed);
+        sampler.start_sample(index);
+        sampler
     }
 
-    fn with_blocks(x: u32, y: u32, index: u32, seed: u32, blocks: Option<Avx2>) -> Self {
+    /// The sampler of pixel (`x`, `y`) for render `seed`, to be moved from
+    /// sample to sample with [`Sampler::start_sample`]: its samples share
+    /// the pixel's scramble seeds (it starts at sample 0).
+    pub fn for_pixel(x: u32, y: u32, seed: u32) -> Self {
+        Self::with_blocks(x, y, seed, Avx2::detect())
+    }
+
+    fn with_blocks(x: u32, y: u32, seed: u32, blocks: Option<Avx2>) -> Self {
         let pixel_seed = hash_combine(hash_combine(hash_u32(seed), x), y);
         Self {
             pixel_seed,
-            index_reversed: index.reverse_bits(),
+            index_reversed: 0,
             dimension: 0,
             cached: 0,
             ready: 0,
@@ -217,7 +226,8 @@ impl Sampler {
     /// shuffled, `i' = R(LK(R(i)))`; dimension 0 is `R(i')`, scrambled to
     /// `R(LK(i'))`; dimension 1 is Sobol's, scrambled to
     /// `R(LK(R(sobol1(i'))))`. Computed on `y = LK(R(i))` = `R(i')`
-    /// with reversed tables, so only three reversals remain.
+    /// with reversed tables, so only three reversals remain (one pair at a
+    /// time; `sobol_block.rs` computes the same points eight at a time).
     #[inline]
     pub fn next_2d(&mut self) -> [f32; 2] {
         let d = self.dimension as usize;
@@ -262,18 +272,19 @@ impl Sampler {
             }
             None => {
                 let block = &mut self.seeds[b];
-                if self.cached as usize <= d {
+                let seeds = if self.cached as usize <= d {
                     debug_assert_eq!(d, self.cached as usize);
                     let pair = PairSeeds::new(self.pixel_seed, d as u32);
-                    block.shuffle[lane] = pair.shuffle;
-                    block.first[lane] = pair.first;
-                    block.second[lane] = pair.second;
+                    [block.shuffle[lane], block.first[lane], block.second[lane]] =
+                        [pair.shuffle, pair.first, pair.second];
                     self.cached += 1;
-                }
-                let seeds = PairSeeds {
-                    shuffle: block.shuffle[lane],
-                    first: block.first[lane],
-                    second: block.second[lane],
+                    pair
+                } else {
+                    PairSeeds {
+                        shuffle: block.shuffle[lane],
+                        first: block.first[lane],
+                        second: block.second[lane],
+                    }
                 };
                 self.point(seeds, second)
             }
@@ -444,7 +455,7 @@ mod tests {
     #[test]
     fn restarted_samples_match_new_ones() {
         let pairs = CACHED_PAIRS as u32 + 8;
-        let mut reused = Sampler::new(12, 34, 0, 77);
+        let mut reused = Sampler::for_pixel(12, 34, 77);
         for index in 0..40u32 {
             reused.start_sample(index);
             let mut fresh = Sampler::new(12, 34, index, 77);
@@ -485,8 +496,8 @@ mod tests {
         for _ in 0..300 {
             x = hash_u32(x);
             let (px, py, seed) = (x & 1023, (x >> 10) & 1023, x >> 27);
-            let mut blocks = Sampler::with_blocks(px, py, 0, seed, Some(kernel));
-            let mut alone = Sampler::with_blocks(px, py, 0, seed, None);
+            let mut blocks = Sampler::with_blocks(px, py, seed, Some(kernel));
+            let mut alone = Sampler::with_blocks(px, py, seed, None);
             let mut most = 0;
             for s in 0..6 {
                 let index = hash_u32(x ^ s);
