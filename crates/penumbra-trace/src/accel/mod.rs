@@ -74,7 +74,7 @@ impl Accel {
     /// accelerator that misses every ray.
     ///
     /// # Panics
-    /// With more than 2²⁸ − 1 triangles (the leaf code's range).
+    /// With more than 2²⁷ − 1 triangles (the leaf code's range).
     pub fn build(triangles: &[[Vec3; 3]], quality: BuildQuality) -> Self {
         assert!(
             triangles.len() <= wide::MAX_TRIANGLES,
@@ -116,19 +116,22 @@ impl Accel {
         let mut blocks = Vec::new();
         let mut primitive_indices = Vec::new();
         wide.renumber_leaves(|first, count| {
-            let mut block = TriangleBlock::EMPTY;
-            for lane in 0..LANES {
-                let index = if lane < count {
-                    let i = bvh2.primitive_indices[first + lane];
-                    block.set(lane, triangles[i as usize].map(Vec3A::from));
-                    i
-                } else {
-                    PAD
-                };
-                primitive_indices.push(index);
+            let start = blocks.len() as u32;
+            for base in (0..count).step_by(LANES) {
+                let mut block = TriangleBlock::EMPTY;
+                for lane in 0..LANES {
+                    let index = if base + lane < count {
+                        let i = bvh2.primitive_indices[first + base + lane];
+                        block.set(lane, triangles[i as usize].map(Vec3A::from));
+                        i
+                    } else {
+                        PAD
+                    };
+                    primitive_indices.push(index);
+                }
+                blocks.push(block);
             }
-            blocks.push(block);
-            (blocks.len() - 1) as u32
+            start
         });
         let bytes = wide.nodes.len() * size_of::<wide::Node8>() + size_of_val(&blocks[..]);
         Self {
@@ -730,8 +733,8 @@ mod tests {
         let inner: Vec<_> = slots.iter().filter(|s| !is_leaf(s)).copied().collect();
         let count = |code: u32| leaf_range(code).len();
         assert!(
-            leaves.iter().any(|l| count(l.2) == LEAF_MAX as usize),
-            "the test needs a full leaf"
+            leaves.iter().any(|l| count(l.2) > LANES),
+            "the test needs a leaf of two blocks"
         );
         let expect = |accel: &Accel, what: &str| {
             let err = accel.validate().expect_err(what);
@@ -793,7 +796,7 @@ mod tests {
         // A leaf's count raised into its block's padding.
         let (n, s, code) = *leaves
             .iter()
-            .find(|l| count(l.2) < LEAF_MAX as usize)
+            .find(|l| count(l.2) % LANES != 0)
             .expect("a leaf with padding");
         expect(
             &broken(&|a| a.wide.nodes[n].child[s] = code + (1 << wide::COUNT_SHIFT)),
@@ -809,10 +812,10 @@ mod tests {
             "is in no leaf",
         );
         // Leaf codes with no triangles, too many, or past the end.
-        let empty = code & !(7 << wide::COUNT_SHIFT);
-        let five = empty | (5 << wide::COUNT_SHIFT);
+        let empty = code & !(15 << wide::COUNT_SHIFT);
+        let too_many = empty | ((LEAF_MAX + 1) << wide::COUNT_SHIFT);
         let past_end = wide::leaf_code(sound.blocks.len() as u32, 1);
-        for bad in [empty, five, past_end] {
+        for bad in [empty, too_many, past_end] {
             expect(&broken(&|a| a.wide.nodes[n].child[s] = bad), "bad leaf");
         }
         // One leaf copied over another of the same node (box and code).

@@ -8,16 +8,17 @@
 //! hit. On trees larger than the caches, each node's entered children are
 //! prefetched as they are sorted or pushed, so that their cache misses overlap
 //! (memory-level parallelism) instead of coming one after another. A
-//! leaf's triangles (up to four, one block) are tested at once by the
-//! 4-lane test of `block.rs` in the AVX2 kernel, one by one in the
-//! portable kernel. The same code is compiled twice: portable (LLVM picks
+//! leaf's triangles (up to eight, in one or two blocks) are tested at once
+//! by the 8-lane test of `block.rs` in the AVX2 kernel, which leaves the
+//! lanes it hits to be visited (most leaves have none or one), and one by
+//! one in the portable kernel. The same code is compiled twice: portable (LLVM picks
 //! the vector width it may) and for AVX2, chosen at run time; both make
 //! the same IEEE operations in the same order, so they find the same hits.
 //! The traversal is a [`Walk`] advanced one node or leaf at a time, so that
 //! [`closest_many`] can interleave several rays' walks on one thread.
 //!
 //! One of the crate's three modules with `unsafe` code (the others are
-//! `block.rs`, for its SSE intrinsics, and `packet.rs`, for its AVX2 and
+//! `block.rs`, for its AVX intrinsics, and `packet.rs`, for its AVX2 and
 //! AVX-512 box tests): calling the AVX2 functions (after the CPU check)
 //! and the uninitialised traversal stack (zeroing 2 KB per ray would cost
 //! more than a node test).
@@ -282,10 +283,10 @@ pub(super) fn prefetch(q: &Query, code: u32) {
     {
         use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
         let (start, bytes) = if code & LEAF_BIT != 0 {
-            let (block, _) = leaf_parts(code);
+            let (block, count) = leaf_parts(code);
             (
                 q.blocks[block..].as_ptr().cast::<i8>(),
-                size_of::<TriangleBlock>(),
+                size_of::<TriangleBlock>() * count.div_ceil(LANES),
             )
         } else {
             (
@@ -294,7 +295,7 @@ pub(super) fn prefetch(q: &Query, code: u32) {
             )
         };
         // Every 64-byte line that holds a byte of [start, start + bytes):
-        // from the line of the first byte on (blocks are 144 bytes, so one
+        // from the line of the first byte on (a block is 144 bytes, so one
         // can start anywhere in a line).
         let mut line = start.wrapping_sub(start as usize % 64);
         let end = start.wrapping_add(bytes);
@@ -318,42 +319,66 @@ fn slab<const AVX2: bool>(node: &Node8, r: &BoxRay, tmax: f32, t: &mut [f32; WID
     slab_portable(node, r, tmax, t)
 }
 
-/// The 4-lane test of a leaf's block in the AVX2 kernel; `None` (the
-/// scalar test, lane by lane) in the portable one, or where a lane needs
-/// the scalar test's f64 fallback.
+/// The 8-lane test of a leaf (its first `count` triangles from
+/// `blocks[0]` on) in the AVX2 kernel; `None` (the scalar test, lane by
+/// lane) in the portable one, or where a lane needs the scalar test's f64
+/// fallback.
 #[inline(always)]
-fn block_hits<const AVX2: bool>(
+fn leaf_hits<const AVX2: bool>(
     q: &Query,
-    block: &TriangleBlock,
+    blocks: &[TriangleBlock],
     count: usize,
     tmax: f32,
 ) -> Option<super::block::BlockHits> {
     #[cfg(target_arch = "x86_64")]
     if AVX2 {
-        return super::block::intersect4(&q.triangles, block, count, tmax);
+        // SAFETY: the AVX2 entry points run only where `Kernel::Avx2` is
+        // supported (checked in `Accel::set_kernel` and `Kernel::best`).
+        return unsafe { super::block::intersect_leaf(&q.triangles, blocks, count, tmax) };
     }
-    let _ = (q, block, count, tmax);
+    let _ = (q, blocks, count, tmax);
     None
 }
 
-/// The hit of `block`'s `lane` within (0, `tmax`): from the 4-lane test's
-/// `hits` (made with a `tmax` at least this one), or the scalar test's
-/// where there are none.
+/// Calls `visit(slot, hit)` for the triangles of leaf `code` that hit
+/// within (0, `tmax()`), in lane order, until it returns false; `tmax` is
+/// read again before each lane (a visit may bring it closer). The 8-lane
+/// test tests all lanes with the `tmax` the leaf starts with and leaves
+/// the lanes it hits, each checked again against the `tmax` of its turn
+/// (a loop over the hit lanes only, not over all: fewer branches to
+/// mispredict); the scalar test (portable kernel, or a lane needing the
+/// f64 fallback) goes through every lane. Both visit the same hits.
 #[inline(always)]
-fn lane_hit(
+fn leaf_lanes<const AVX2: bool>(
     q: &Query,
-    block: &TriangleBlock,
-    hits: &Option<super::block::BlockHits>,
-    lane: usize,
-    tmax: f32,
-) -> Option<TriangleHit> {
-    match hits {
-        Some(h) => (h.mask >> lane & 1 != 0)
-            .then(|| h.within(lane, tmax))
-            .flatten(),
+    code: u32,
+    tmax: impl Fn() -> f32,
+    mut visit: impl FnMut(usize, TriangleHit) -> bool,
+) {
+    let (b, count) = leaf_parts(code);
+    let blocks = &q.blocks[b..];
+    match leaf_hits::<AVX2>(q, blocks, count, tmax()) {
+        Some(hits) => {
+            let mut m = hits.mask;
+            while m != 0 {
+                let lane = m.trailing_zeros() as usize;
+                m &= m - 1;
+                if let Some(h) = hits.within(lane, tmax())
+                    && !visit(LANES * b + lane, h)
+                {
+                    return;
+                }
+            }
+        }
         None => {
-            let [v0, v1, v2] = block.triangle(lane);
-            q.triangles.intersect_a(v0, v1, v2, tmax)
+            for lane in 0..count {
+                let [v0, v1, v2] = blocks[lane / LANES].triangle(lane % LANES);
+                if let Some(h) = q.triangles.intersect_a(v0, v1, v2, tmax())
+                    && !visit(LANES * b + lane, h)
+                {
+                    return;
+                }
+            }
         }
     }
 }
@@ -368,18 +393,20 @@ pub(super) fn leaf_step<const AVX2: bool>(
     best_t: &mut f32,
     best: &mut Option<(usize, TriangleHit)>,
 ) {
-    let (b, count) = leaf_parts(code);
-    let block = &q.blocks[b];
-    let hits = block_hits::<AVX2>(q, block, count, *best_t);
-    for lane in 0..count {
-        // An earlier lane may have brought `best_t` closer.
-        if let Some(h) = lane_hit(q, block, &hits, lane, *best_t)
-            && keep(LANES * b + lane, h.b1, h.b2)
-        {
-            *best_t = h.t;
-            *best = Some((LANES * b + lane, h));
-        }
-    }
+    let t = std::cell::Cell::new(*best_t);
+    leaf_lanes::<AVX2>(
+        q,
+        code,
+        || t.get(),
+        |slot, h| {
+            if keep(slot, h.b1, h.b2) {
+                t.set(h.t);
+                *best = Some((slot, h));
+            }
+            true
+        },
+    );
+    *best_t = t.get();
 }
 
 /// A closest-hit traversal in progress: the node or leaf it visits next,
@@ -543,15 +570,18 @@ fn any<const AVX2: bool>(
     let mut code = 0u32;
     loop {
         if code & LEAF_BIT != 0 {
-            let (b, count) = leaf_parts(code);
-            let block = &q.blocks[b];
-            let hits = block_hits::<AVX2>(q, block, count, q.tmax);
-            for lane in 0..count {
-                if let Some(h) = lane_hit(q, block, &hits, lane, q.tmax)
-                    && keep(LANES * b + lane, h.b1, h.b2)
-                {
-                    return true;
-                }
+            let mut found = false;
+            leaf_lanes::<AVX2>(
+                q,
+                code,
+                || q.tmax,
+                |slot, h| {
+                    found = keep(slot, h.b1, h.b2);
+                    !found
+                },
+            );
+            if found {
+                return true;
             }
         } else {
             let node = &q.wide.nodes[code as usize];

@@ -7,22 +7,22 @@
 //! largest surface area until it has eight (Wald et al. 2008, "Getting rid
 //! of packets").
 
-use super::block::LANES;
+use super::block::{LANES, LEAF_LANES};
 use obvhs::aabb::Aabb;
 use obvhs::bvh2::Bvh2;
 
 /// Children per node.
 pub(super) const WIDTH: usize = 8;
 
-/// Largest leaf, in triangles.
-pub(super) const LEAF_MAX: u32 = LANES as u32;
+/// Largest leaf, in triangles: two blocks, one 8-lane test.
+pub(super) const LEAF_MAX: u32 = LEAF_LANES as u32;
 
 /// A slot's code: an inner node's index, or a leaf: this bit, its triangle
 /// count in [`COUNT_SHIFT`].., and its triangles' block (`block.rs`) below.
 /// While [`Wide::collapse`] runs, the low bits are the leaf's first index
 /// into the binary BVH's primitive list instead.
 pub(super) const LEAF_BIT: u32 = 1 << 31;
-pub(super) const COUNT_SHIFT: u32 = 28;
+pub(super) const COUNT_SHIFT: u32 = 27;
 const START_MASK: u32 = (1 << COUNT_SHIFT) - 1;
 
 /// Most triangles a BVH can index (the leaf code's start field).
