@@ -55,3 +55,5 @@ if [ "${PENUMBRA_SKIP_SLURM:-0}" != 1 ] && ! bash scripts/slurm-local.sh status 
 fi
 
 cargo test --workspace --locked "$@"
+# The stage timer (off in normal builds) with its feature on.
+cargo test -p penumbra-trace --locked --features stage-timing --lib stages "$@"

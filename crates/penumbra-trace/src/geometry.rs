@@ -246,7 +246,9 @@ impl SceneGeometry {
     /// Closest surface along `ray`.
     pub fn intersect(&self, scene: &Scene, ray: &Ray) -> Option<SurfaceHit> {
         crate::stats::count_ray();
-        let hit = self.closest_triangle(ray);
+        let hit = crate::stages::timed(crate::stages::Stage::Traversal, || {
+            self.closest_triangle(ray)
+        });
         let mut tmax = hit.as_ref().map_or(ray.tmax, |h| h.t);
         let mut light_hit = None;
         for (i, l) in self.area_lights.iter().enumerate() {

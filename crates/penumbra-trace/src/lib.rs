@@ -10,6 +10,7 @@ pub mod integrator;
 pub mod lights;
 pub mod ray;
 pub mod render;
+pub mod stages;
 pub mod stats;
 pub mod texture_lod;
 

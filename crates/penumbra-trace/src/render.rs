@@ -12,6 +12,7 @@ use crate::accel::BuildQuality;
 use crate::geometry::SceneGeometry;
 use crate::integrator::TraceContext;
 use crate::lights::LightSampler;
+use crate::stages::{Stage, timed};
 use crate::texture_lod::RayCone;
 use glam::Vec3;
 use penumbra_image::{Film, FilmTile, Image, noise_rel_mse};
@@ -341,10 +342,12 @@ fn render_tile(
             // One sampler per pixel: its samples share the scramble seeds.
             let mut sampler = Sampler::for_pixel(x, y, settings.seed);
             for s in s0..s1 {
-                sampler.start_sample(s);
-                let [jx, jy] = sampler.next_2d();
-                let (o, d) = film.ray(x as f32 + jx, y as f32 + jy);
-                let result = ctx.li(&crate::ray::Ray::new(o, d), &mut sampler);
+                let result = timed(Stage::Sample, || {
+                    sampler.start_sample(s);
+                    let [jx, jy] = sampler.next_2d();
+                    let (o, d) = film.ray(x as f32 + jx, y as f32 + jy);
+                    ctx.li(&crate::ray::Ray::new(o, d), &mut sampler)
+                });
                 // A NaN or infinite sample would poison the pixel's mean; it
                 // is a bug elsewhere, but one bad sample must not ruin an image.
                 let value = if result.radiance.is_finite() {
@@ -364,6 +367,7 @@ fn render_tile(
             }
         }
     }
+    crate::stages::flush();
     TileOutput {
         film: tile,
         aovs: aov_tiles,

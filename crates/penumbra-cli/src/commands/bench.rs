@@ -157,6 +157,39 @@ fn mesh_scene(meshes: Vec<(penumbra_scene::Mesh, Mat4)>) -> Scene {
     scene
 }
 
+/// The time of each stage of the path measure's `samples` samples (a
+/// `stage-timing` build): ticks and calls per sample, ticks per call and
+/// the share of a sample's time (stages nest: see `penumbra_trace::stages`).
+fn report_stages(stages: &[penumbra_trace::stages::StageTime], samples: u64, json: bool) {
+    use penumbra_trace::stages::Stage;
+    let per_sample = |x: u64| x as f64 / samples.max(1) as f64;
+    let sample_ticks = stages
+        .iter()
+        .find(|s| s.stage == Stage::Sample)
+        .map_or(0, |s| s.ticks);
+    for s in stages {
+        let share = 100.0 * s.ticks as f64 / sample_ticks.max(1) as f64;
+        let per_call = s.ticks as f64 / s.calls.max(1) as f64;
+        if json {
+            println!(
+                "{{\"stage\":\"{}\",\"ticks_per_sample\":{:.1},\"calls_per_sample\":{:.3},\"ticks_per_call\":{per_call:.1},\"percent_of_sample\":{share:.2}}}",
+                s.stage.name().trim(),
+                per_sample(s.ticks),
+                per_sample(s.calls)
+            );
+        } else {
+            println!(
+                "stage {:<14} {:>8.1} ticks/sample {:>5.1} %  {:>5.2} calls/sample {:>8.1} ticks/call",
+                s.stage.name(),
+                per_sample(s.ticks),
+                share,
+                per_sample(s.calls),
+                per_call
+            );
+        }
+    }
+}
+
 fn report(m: &Measure, json: bool, unit: &str) {
     if json {
         let key = if matches!(m.name, "build" | "load" | "bvh+mips") {
@@ -426,7 +459,12 @@ fn run_measures(args: &BenchArgs, scene: &Scene, load: Option<Measure>) -> Resul
             }
         };
         if scene.textures.is_empty() {
-            report(&path("path", scene), args.json, "Msamples/s");
+            penumbra_trace::stages::take();
+            let m = path("path", scene);
+            report(&m, args.json, "Msamples/s");
+            if let Some(stages) = penumbra_trace::stages::take() {
+                report_stages(&stages, m.count, args.json);
+            }
         } else {
             // The cost of texture lookups: the same render with every
             // material's textures replaced by their means, in the same

@@ -15,6 +15,7 @@
 use super::{PathSample, Shading, TraceContext};
 use crate::lights::Emitter;
 use crate::ray::Ray;
+use crate::stages::{Stage, timed};
 use crate::texture_lod::RayCone;
 use glam::Vec3;
 use penumbra_shading::Rgb;
@@ -107,11 +108,13 @@ pub(crate) fn walk<S: RadianceSink>(
 ) {
     loop {
         // Segment 1 is the camera ray, which culls glTF's single-sided back faces.
-        let hit = if st.depth == 1 {
-            ctx.geometry.intersect_camera(ctx.scene, &st.ray)
-        } else {
-            ctx.geometry.intersect(ctx.scene, &st.ray)
-        };
+        let hit = timed(Stage::Closest, || {
+            if st.depth == 1 {
+                ctx.geometry.intersect_camera(ctx.scene, &st.ray)
+            } else {
+                ctx.geometry.intersect(ctx.scene, &st.ray)
+            }
+        });
         let Some(hit) = hit else {
             // Environment, MIS-weighted against its NEE sampling.
             let le = ctx.lights.environment().eval(st.ray.direction);
@@ -157,7 +160,7 @@ pub(crate) fn walk<S: RadianceSink>(
             );
         }
         let cone = st.cone.at(hit.t);
-        let shading = ctx.shading(&hit, wo, cone.width);
+        let shading = timed(Stage::Shading, || ctx.shading(&hit, wo, cone.width));
         if st.depth == 1 {
             *aov = ctx.first_hit_aovs(shading.as_ref(), &hit);
         }
@@ -165,8 +168,13 @@ pub(crate) fn walk<S: RadianceSink>(
         if st.depth >= max_depth {
             return;
         }
-        next_event(ctx, &s, sampler, st.beta, st.depth, sink);
-        match scatter(ctx, &s, sampler, st.beta, st.eta_scale, st.depth, cone) {
+        timed(Stage::NextEvent, || {
+            next_event(ctx, &s, sampler, st.beta, st.depth, sink);
+        });
+        let next = timed(Stage::Scatter, || {
+            scatter(ctx, &s, sampler, st.beta, st.eta_scale, st.depth, cone)
+        });
+        match next {
             Some(next) => st = next,
             None => return,
         }
@@ -201,7 +209,7 @@ pub(crate) fn next_event<S: RadianceSink>(
         return;
     }
     let f = s.bsdf.eval(s.wo_local, wi_local);
-    if f == Rgb::ZERO || !ctx.visible(s, ls.wi, ls.distance) {
+    if f == Rgb::ZERO || !timed(Stage::Shadow, || ctx.visible(s, ls.wi, ls.distance)) {
         return;
     }
     let weight = if ls.is_delta {
