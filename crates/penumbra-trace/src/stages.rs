@@ -50,11 +50,21 @@ impl Stage {
         match self {
             Stage::Sample => "sample",
             Stage::Closest => "closest-hit",
-            Stage::Traversal => "  traversal",
+            Stage::Traversal => "traversal",
             Stage::NextEvent => "next-event",
-            Stage::Shadow => "  shadow-ray",
+            Stage::Shadow => "shadow-ray",
             Stage::Shading => "shading",
             Stage::Scatter => "scatter",
+        }
+    }
+
+    /// The stage this one runs inside, below the sample (whose time holds
+    /// every other stage's).
+    pub fn within(self) -> Option<Stage> {
+        match self {
+            Stage::Traversal => Some(Stage::Closest),
+            Stage::Shadow => Some(Stage::NextEvent),
+            _ => None,
         }
     }
 }

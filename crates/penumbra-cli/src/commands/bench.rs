@@ -173,14 +173,16 @@ fn report_stages(stages: &[penumbra_trace::stages::StageTime], samples: u64, jso
         if json {
             println!(
                 "{{\"stage\":\"{}\",\"ticks_per_sample\":{:.1},\"calls_per_sample\":{:.3},\"ticks_per_call\":{per_call:.1},\"percent_of_sample\":{share:.2}}}",
-                s.stage.name().trim(),
+                s.stage.name(),
                 per_sample(s.ticks),
                 per_sample(s.calls)
             );
         } else {
+            // A nested stage indented under the one it runs inside.
+            let indent = if s.stage.within().is_some() { "  " } else { "" };
             println!(
                 "stage {:<14} {:>8.1} ticks/sample {:>5.1} %  {:>5.2} calls/sample {:>8.1} ticks/call",
-                s.stage.name(),
+                format!("{indent}{}", s.stage.name()),
                 per_sample(s.ticks),
                 share,
                 per_sample(s.calls),

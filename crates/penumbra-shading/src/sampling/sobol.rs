@@ -182,6 +182,25 @@ impl PairSeeds {
     }
 }
 
+impl SeedBlock {
+    /// The seeds of the block's pair `lane`.
+    #[inline(always)]
+    fn pair(&self, lane: usize) -> PairSeeds {
+        PairSeeds {
+            shuffle: self.shuffle[lane],
+            first: self.first[lane],
+            second: self.second[lane],
+        }
+    }
+
+    #[inline(always)]
+    fn set_pair(&mut self, lane: usize, seeds: PairSeeds) {
+        self.shuffle[lane] = seeds.shuffle;
+        self.first[lane] = seeds.first;
+        self.second[lane] = seeds.second;
+    }
+}
+
 impl Sampler {
     /// Starts the stream of sample `index` of pixel (`x`, `y`) for render `seed`.
     pub fn new(x: u32, y: u32, index: u32, seed: u32) -> Self {
@@ -230,23 +249,25 @@ impl Sampler {
     /// time; `sobol_block.rs` computes the same points eight at a time).
     #[inline]
     pub fn next_2d(&mut self) -> [f32; 2] {
-        let d = self.dimension as usize;
-        self.dimension += 1;
-        if d < self.ready as usize {
-            return self.points.as_flattened()[d];
-        }
-        self.compute(d, true)
+        self.next_pair(true)
     }
 
     /// Next value in [0,1): the first coordinate of the next 2-D point.
     #[inline]
     pub fn next_1d(&mut self) -> f32 {
+        self.next_pair(false)[0]
+    }
+
+    /// The next pair's point: ready in its block, or computed (the second
+    /// coordinate only if `second`).
+    #[inline(always)]
+    fn next_pair(&mut self, second: bool) -> [f32; 2] {
         let d = self.dimension as usize;
         self.dimension += 1;
         if d < self.ready as usize {
-            return self.points.as_flattened()[d][0];
+            return self.points.as_flattened()[d];
         }
-        self.compute(d, false)[0]
+        self.compute(d, second)
     }
 
     /// Pair `d`'s point when it is not ready: the block it starts, or on
@@ -271,20 +292,14 @@ impl Sampler {
                 self.points[b][0]
             }
             None => {
-                let block = &mut self.seeds[b];
                 let seeds = if self.cached as usize <= d {
                     debug_assert_eq!(d, self.cached as usize);
                     let pair = PairSeeds::new(self.pixel_seed, d as u32);
-                    [block.shuffle[lane], block.first[lane], block.second[lane]] =
-                        [pair.shuffle, pair.first, pair.second];
+                    self.seeds[b].set_pair(lane, pair);
                     self.cached += 1;
                     pair
                 } else {
-                    PairSeeds {
-                        shuffle: block.shuffle[lane],
-                        first: block.first[lane],
-                        second: block.second[lane],
-                    }
+                    self.seeds[b].pair(lane)
                 };
                 self.point(seeds, second)
             }
