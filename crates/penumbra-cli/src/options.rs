@@ -3,6 +3,7 @@
 use anyhow::{Context, Result, bail};
 use penumbra_image::available_memory;
 use penumbra_scene::{IntegratorKind, LoadOptions, RenderSettings, Scene};
+use penumbra_trace::accel::Accel;
 use std::path::Path;
 
 /// Largest image edge accepted.
@@ -77,12 +78,24 @@ pub fn parse_length(s: &str) -> Result<f64, String> {
 }
 
 /// Loads a scene file; absolute paths the user typed are allowed inside it.
+/// A scene with more triangles (instances counted) than the ray tracer's
+/// BVH holds is refused here, before any work, with the count.
 pub fn load_scene(path: &Path) -> Result<Scene> {
     let mut options = LoadOptions::default();
     if let Ok(abs) = std::path::absolute(path) {
         options.allowed_absolute_paths.push(abs);
     }
-    Ok(penumbra_scene::load_scene(path, &options)?)
+    let scene = penumbra_scene::load_scene(path, &options)?;
+    let triangles = scene.triangle_count();
+    if triangles > Accel::MAX_TRIANGLES {
+        bail!(
+            "{}: {triangles} triangles with every instance counted; \
+             penumbra's BVH holds at most {} (2^27 - 1)",
+            path.display(),
+            Accel::MAX_TRIANGLES
+        );
+    }
+    Ok(scene)
 }
 
 /// The scene file, or the built-in Cornell box without one; prints the

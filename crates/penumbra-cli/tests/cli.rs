@@ -779,3 +779,77 @@ fn a_closed_output_pipe_ends_quietly() {
         o.status
     );
 }
+
+/// A scene with more triangles, instances counted, than the BVH holds is
+/// refused at load with the count and the file's name, before any output
+/// is written; one at the limit loads. One mesh of 2^20 triangles placed
+/// by 128 nodes makes 2^27, one past the limit; with the last node's mesh
+/// one triangle shorter, 2^27 - 1.
+#[test]
+fn a_scene_past_the_bvh_limit_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let triangles: u32 = 1 << 20;
+    let mut bin = Vec::new();
+    for p in [[0.0f32, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]] {
+        for c in p {
+            bin.extend_from_slice(&c.to_le_bytes());
+        }
+    }
+    for _ in 0..triangles {
+        for i in 0u32..3 {
+            bin.extend_from_slice(&i.to_le_bytes());
+        }
+    }
+    std::fs::write(dir.path().join("big.bin"), &bin).unwrap();
+    // Nodes 0..127 place mesh 0; node 127 places `last_mesh`.
+    let write = |name: &str, last_mesh: u32| {
+        let nodes: Vec<String> = (0..128)
+            .map(|i| {
+                let mesh = if i == 127 { last_mesh } else { 0 };
+                format!(r#"{{"mesh": {mesh}, "translation": [{i}, 0, 0]}}"#)
+            })
+            .collect();
+        let gltf = format!(
+            r#"{{"asset": {{"version": "2.0"}},
+  "buffers": [{{"uri": "big.bin", "byteLength": {len}}}],
+  "bufferViews": [{{"buffer": 0, "byteOffset": 0, "byteLength": 36}},
+                  {{"buffer": 0, "byteOffset": 36, "byteLength": {ilen}}}],
+  "accessors": [{{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                  "min": [0, 0, 0], "max": [1, 1, 0]}},
+                {{"bufferView": 1, "componentType": 5125, "count": {icount}, "type": "SCALAR"}},
+                {{"bufferView": 1, "componentType": 5125, "count": {shorter}, "type": "SCALAR"}}],
+  "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0}}, "indices": 1}}]}},
+             {{"primitives": [{{"attributes": {{"POSITION": 0}}, "indices": 2}}]}}],
+  "nodes": [{nodes}],
+  "scenes": [{{"nodes": [{roots}]}}], "scene": 0}}"#,
+            len = bin.len(),
+            ilen = bin.len() - 36,
+            icount = 3 * triangles,
+            shorter = 3 * (triangles - 1),
+            nodes = nodes.join(", "),
+            roots = (0..128)
+                .map(|i| i.to_string())
+                .collect::<Vec<_>>()
+                .join(", "),
+        );
+        std::fs::write(dir.path().join(name), gltf).unwrap();
+    };
+    write("big.gltf", 0);
+    write("limit.gltf", 1);
+    let cases: &[(&[&str], &str)] = &[
+        (
+            &["render", "big.gltf", "-o", "out.png"],
+            "big.gltf: 134217728 triangles with every instance counted; penumbra's BVH holds at most 134217727",
+        ),
+        (
+            &["bake", "ao", "big.gltf", "-o", "baked"],
+            "134217728 triangles",
+        ),
+        (&["study", "big.gltf", "-o", "study"], "134217728 triangles"),
+    ];
+    expect_failures(cases, dir.path(), &["big.bin", "big.gltf", "limit.gltf"]);
+    let o = penumbra(&["info", "limit.gltf"], dir.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(out.contains("triangles:  134217727"), "{out}");
+}

@@ -70,17 +70,21 @@ pub enum BuildQuality {
 }
 
 impl Accel {
+    /// The most triangles a BVH holds: 2²⁷ − 1, the range of a leaf
+    /// code's first-triangle field. Callers check user scenes against it.
+    pub const MAX_TRIANGLES: usize = wide::MAX_TRIANGLES;
+
     /// Builds over `triangles` (world space). An empty list gives an
     /// accelerator that misses every ray.
     ///
     /// # Panics
-    /// With more than 2²⁷ − 1 triangles (the leaf code's range).
+    /// With more than [`Self::MAX_TRIANGLES`] triangles.
     pub fn build(triangles: &[[Vec3; 3]], quality: BuildQuality) -> Self {
         assert!(
-            triangles.len() <= wide::MAX_TRIANGLES,
+            triangles.len() <= Self::MAX_TRIANGLES,
             "{} triangles: the BVH holds at most {}",
             triangles.len(),
-            wide::MAX_TRIANGLES
+            Self::MAX_TRIANGLES
         );
         let kernel = Kernel::best();
         if triangles.is_empty() {
