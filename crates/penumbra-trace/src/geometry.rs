@@ -243,7 +243,10 @@ impl SceneGeometry {
         0.5 * self.front_normal_scaled(triangle).length()
     }
 
-    /// Closest surface along `ray`.
+    /// Closest surface along `ray`. Inlined with [`Self::surface_at`] into
+    /// the integrators' loops, which then build the hit in place instead of
+    /// copying it out of a returned `Option` (see `path::scatter`).
+    #[inline(always)]
     pub fn intersect(&self, scene: &Scene, ray: &Ray) -> Option<SurfaceHit> {
         crate::stats::count_ray();
         let hit = crate::stages::timed(crate::stages::Stage::Traversal, || {
@@ -377,6 +380,7 @@ impl SceneGeometry {
         Some((Mat3::from_mat4(inst.transform) * along).extend(w))
     }
 
+    #[inline(always)]
     fn surface_at(&self, scene: &Scene, hit: &Hit) -> SurfaceHit {
         let src = self.sources[hit.triangle as usize];
         let inst_data = &self.instances[src.instance as usize];
