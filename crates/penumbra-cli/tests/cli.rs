@@ -801,7 +801,7 @@ fn a_scene_past_the_bvh_limit_is_refused() {
         }
     }
     std::fs::write(dir.path().join("big.bin"), &bin).unwrap();
-    // Nodes 0..127 place mesh 0; node 127 places `last_mesh`.
+    // Nodes 0–126 place mesh 0; node 127 places `last_mesh`.
     let write = |name: &str, last_mesh: u32| {
         let nodes: Vec<String> = (0..128)
             .map(|i| {
