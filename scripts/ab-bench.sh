@@ -4,8 +4,9 @@
 # binary, alternating the binaries (A B A B …, so that a slow spell of the
 # host falls on both), and prints each one's minimum, median (the lower
 # middle run for an even count) and maximum Msamples/s. Compare medians;
-# a difference inside the ranges' overlap is noise. Shared hosts have moved one build's one-shot figure by up to
-# 1.6× within an hour (README, stop 39).
+# a difference inside the ranges' overlap is noise. On a shared host one
+# binary took 42.8 s and 52.6 s for the same render minutes apart
+# (README, stop 39).
 #
 #   scripts/ab-bench.sh SCENE RUNS BINARY...
 #
