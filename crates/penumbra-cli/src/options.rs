@@ -90,7 +90,7 @@ pub fn load_scene(path: &Path) -> Result<Scene> {
     if triangles > Accel::MAX_TRIANGLES {
         bail!(
             "{}: {triangles} triangles with every instance counted; \
-             penumbra's BVH holds at most {} (2^27 - 1)",
+             penumbra's BVH holds at most {}",
             path.display(),
             Accel::MAX_TRIANGLES
         );
