@@ -51,7 +51,7 @@ impl<'a> Prepared<'a> {
         progress: Option<BakeProgress<'_>>,
     ) -> Result<Self, BakeError> {
         let t0 = Instant::now();
-        let geometry = SceneGeometry::build(scene, BuildQuality::default());
+        let geometry = SceneGeometry::build(scene, BuildQuality::default())?;
         let lights = LightSampler::new(scene, &geometry);
         let report = |stage: &str, done: usize, total: Option<usize>| {
             if let Some(p) = progress {
@@ -274,4 +274,30 @@ impl<'a> Prepared<'a> {
 /// Offset of a texel in the page-major state array.
 fn texel_offset(texels: &Texels, t: &Texel) -> usize {
     (t.page as usize * texels.height as usize + t.y as usize) * texels.width as usize + t.x as usize
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Mat4;
+    use penumbra_scene::Mesh;
+
+    /// A scene of 2²⁷ triangles (a 2²⁰-triangle mesh placed 128 times),
+    /// one more than the BVH holds, is an error before anything is built.
+    #[test]
+    fn a_scene_past_the_bvh_limit_is_an_error() {
+        let mut scene = Scene::default();
+        let mesh = Mesh {
+            positions: vec![glam::Vec3::ZERO, glam::Vec3::X, glam::Vec3::Y],
+            indices: vec![[0, 1, 2]; 1 << 20],
+            ..Mesh::default()
+        };
+        scene.add_mesh(mesh, Mat4::IDENTITY);
+        scene.instances.resize(128, scene.instances[0].clone());
+        let err = Prepared::new(&scene, &AtlasSettings::default(), None).err();
+        assert!(
+            matches!(err, Some(BakeError::SceneTooLarge(e)) if e.triangles == 1 << 27),
+            "{err:?}"
+        );
+    }
 }

@@ -18,6 +18,9 @@ pub enum BakeError {
     File { path: PathBuf, message: String },
     #[error(transparent)]
     Image(#[from] penumbra_image::ImageError),
+    /// More triangles than the ray tracer's BVH holds.
+    #[error(transparent)]
+    SceneTooLarge(#[from] penumbra_trace::SceneTooLarge),
 }
 
 impl BakeError {

@@ -284,7 +284,7 @@ fn a_point_light_shoots_first_with_the_inverse_square_law() {
 /// image mean by a few per cent).
 fn display(scene: &Scene, bake: &Bake, w: u32, h: u32) -> Image {
     const SUB: u32 = 4;
-    let geometry = SceneGeometry::build(scene, Default::default());
+    let geometry = SceneGeometry::build(scene, Default::default()).unwrap();
     let camera = penumbra_trace::scene_camera(scene);
     let pixels = (0..w * h)
         .into_par_iter()

@@ -1,9 +1,9 @@
 //! Shared command-line value parsers and helpers.
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result, anyhow, bail};
 use penumbra_image::available_memory;
 use penumbra_scene::{IntegratorKind, LoadOptions, RenderSettings, Scene};
-use penumbra_trace::accel::Accel;
+use penumbra_trace::geometry::SceneGeometry;
 use std::path::Path;
 
 /// Largest image edge accepted.
@@ -86,15 +86,7 @@ pub fn load_scene(path: &Path) -> Result<Scene> {
         options.allowed_absolute_paths.push(abs);
     }
     let scene = penumbra_scene::load_scene(path, &options)?;
-    let triangles = scene.triangle_count();
-    if triangles > Accel::MAX_TRIANGLES {
-        bail!(
-            "{}: {triangles} triangles with every instance counted; \
-             penumbra's BVH holds at most {}",
-            path.display(),
-            Accel::MAX_TRIANGLES
-        );
-    }
+    SceneGeometry::check_size(&scene).map_err(|e| anyhow!("{}: {e}", path.display()))?;
     Ok(scene)
 }
 

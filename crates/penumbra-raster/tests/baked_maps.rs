@@ -86,7 +86,7 @@ fn a_full_light_map_of_the_cornell_box_matches_the_path_traced_reference() {
 
 /// Per pixel centre: (instance, chart, normal) of the first hit, or None.
 fn first_hits(scene: &Scene, bake: &LoadedBake, size: u32) -> Vec<Option<(usize, u32, Vec3)>> {
-    let geometry = SceneGeometry::build(scene, BuildQuality::default());
+    let geometry = SceneGeometry::build(scene, BuildQuality::default()).unwrap();
     let camera = scene_camera(scene);
     (0..size * size)
         .map(|i| {
@@ -207,7 +207,7 @@ fn the_gpu_lookup_equals_the_cpu_lookup_at_every_pixel_centre() {
         true,
     );
     let shown = aov(&out, "irradiance");
-    let geometry = SceneGeometry::build(&scene, BuildQuality::default());
+    let geometry = SceneGeometry::build(&scene, BuildQuality::default()).unwrap();
     let camera = scene_camera(&scene);
     // Pixels on an edge may rasterise the neighbouring triangle: a few
     // differ; everywhere else the two lookups agree to float rounding.

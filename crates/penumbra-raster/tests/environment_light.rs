@@ -351,7 +351,9 @@ fn cpu_direct(scene: &Scene, spp: u32) -> Image {
     settings.height = SIZE;
     settings.spp = spp;
     settings.integrator = IntegratorKind::Direct;
-    render(&scene, &settings, &RenderOptions::default()).image
+    render(&scene, &settings, &RenderOptions::default())
+        .unwrap()
+        .image
 }
 
 fn raster(ctx: &GpuContext, r: &ForwardRenderer, scene: &Scene) -> Image {
@@ -799,7 +801,9 @@ fn the_map_is_drawn_as_the_background() {
         let mut settings = scene.settings.clone();
         (settings.width, settings.height, settings.spp) = (size, size, 16);
         settings.integrator = IntegratorKind::Direct;
-        let cpu = render(&scene, &settings, &RenderOptions::default()).image;
+        let cpu = render(&scene, &settings, &RenderOptions::default())
+            .unwrap()
+            .image;
         let misses: Vec<usize> = (0..(size * size) as usize)
             .filter(|&i| {
                 let (x, y) = (

@@ -27,7 +27,9 @@ fn cpu_local(scene: &Scene, camera: Camera, width: u32, height: u32, spp: u32) -
     settings.height = height;
     settings.spp = spp;
     settings.integrator = IntegratorKind::Local;
-    render(&scene, &settings, &RenderOptions::default()).image
+    render(&scene, &settings, &RenderOptions::default())
+        .unwrap()
+        .image
 }
 
 fn luminance_stats(img: &Image) -> (f32, f32) {

@@ -142,7 +142,9 @@ fn tiled_culling_is_exact_and_matches_cpu_local_with_1024_lights() {
     let mut settings = cpu_scene.settings.clone();
     (settings.width, settings.height, settings.spp) = (RES, RES, 4);
     settings.integrator = IntegratorKind::Local;
-    let cpu = render(&cpu_scene, &settings, &RenderOptions::default()).image;
+    let cpu = render(&cpu_scene, &settings, &RenderOptions::default())
+        .unwrap()
+        .image;
     save("cpu-local", &cpu);
     for msaa in [1, 4] {
         let culled = raster(&ctx, &s, msaa, true);

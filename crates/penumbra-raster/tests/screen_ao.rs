@@ -79,7 +79,7 @@ fn settings(method: AoMethod, quality: AoQuality, radius: f32) -> AoSettings {
 /// Which pixels see a non-emissive surface at their centre (the CPU
 /// camera's first hit).
 fn surface_mask(scene: &Scene, size: u32) -> Vec<bool> {
-    let geometry = SceneGeometry::build(scene, BuildQuality::default());
+    let geometry = SceneGeometry::build(scene, BuildQuality::default()).unwrap();
     let camera = scene_camera(scene);
     (0..size * size)
         .map(|i| {
@@ -349,7 +349,7 @@ fn the_denoise_does_not_spread_occlusion_across_a_depth_edge() {
     let mask = surface_mask(&scene, size);
     // Wall pixels: those whose camera ray hits z ≈ 0 (not the square).
     let camera = scene_camera(&scene);
-    let geometry = SceneGeometry::build(&scene, BuildQuality::default());
+    let geometry = SceneGeometry::build(&scene, BuildQuality::default()).unwrap();
     let wall: Vec<bool> = (0..size * size)
         .map(|i| {
             let (o, d) =
@@ -605,7 +605,7 @@ fn analytic_lights_have_no_ambient_occlusion_term() {
     assert_eq!(analytic.area_lights.len(), 1);
     for (scene, want) in [(analytic, 0.0), (builtin::cornell_box(), 1.0)] {
         let size = 128;
-        let geometry = SceneGeometry::build(&scene, BuildQuality::default());
+        let geometry = SceneGeometry::build(&scene, BuildQuality::default()).unwrap();
         let camera = scene_camera(&scene);
         let on_light: Vec<bool> = (0..size * size)
             .map(|i| {

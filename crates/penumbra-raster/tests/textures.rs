@@ -451,7 +451,9 @@ fn cpu_local(scene: &Scene, camera: Camera, width: u32, height: u32, spp: u32) -
     let mut settings = scene.settings.clone();
     (settings.width, settings.height, settings.spp) = (width, height, spp);
     settings.integrator = IntegratorKind::Local;
-    render(&scene, &settings, &RenderOptions::default()).image
+    render(&scene, &settings, &RenderOptions::default())
+        .unwrap()
+        .image
 }
 
 fn raster(ctx: &GpuContext, scene: &Scene, camera: Camera, width: u32, height: u32) -> Image {

@@ -15,6 +15,9 @@ pub enum StudyError {
     Image(#[from] penumbra_image::ImageError),
     #[error(transparent)]
     Report(#[from] crate::report::ReportError),
+    /// More triangles than the ray tracer's BVH holds.
+    #[error(transparent)]
+    SceneTooLarge(#[from] penumbra_trace::SceneTooLarge),
 }
 
 impl StudyError {

@@ -2,18 +2,19 @@
 //! line (`render`, `render --engine raster`, `bake`), and says why where a
 //! technique cannot run on this scene or machine.
 
+use crate::error::StudyError;
 use crate::measure::errors;
 use crate::row::EqualTime;
 use crate::study::StudyOptions;
 use crate::technique::{RasterShadows, Technique};
 use penumbra_bake::{AtlasSettings, LoadedBake};
-use penumbra_image::{Image, ImageError};
+use penumbra_image::Image;
 use penumbra_raster::passes::ao::{AoMethod, AoQuality, AoSettings, default_radius};
 use penumbra_raster::receivers::planar_receivers;
 use penumbra_raster::{BakedMaps, ForwardRenderer, GpuContext, RasterOptions, ShadowMode};
 use penumbra_scene::{IntegratorKind, RenderSettings, Scene};
 use penumbra_shading::light::Environment;
-use penumbra_trace::{RenderOptions, render, scene_camera_for};
+use penumbra_trace::{RenderOptions, SceneTooLarge, render, scene_camera_for};
 use std::collections::HashMap;
 use std::path::Path;
 
@@ -98,7 +99,7 @@ impl<'a> Runner<'a> {
     /// Runs `technique`; `Err` says why it cannot run here.
     pub fn run(&mut self, technique: &Technique) -> Result<Produced, String> {
         match *technique {
-            Technique::Trace(i) => Ok(self.trace(i)),
+            Technique::Trace(i) => self.trace(i).map_err(|e| e.to_string()),
             Technique::Shadows(s) => {
                 if s.mode == ShadowMode::Planar {
                     let bounds = self.scene.bounds().ok_or("the scene is empty")?;
@@ -148,9 +149,9 @@ impl<'a> Runner<'a> {
         )
     }
 
-    fn trace(&self, integrator: IntegratorKind) -> Produced {
+    fn trace(&self, integrator: IntegratorKind) -> Result<Produced, SceneTooLarge> {
         let s = self.settings(integrator, self.options.settings.spp);
-        let out = render(self.scene, &s, &RenderOptions::default());
+        let out = render(self.scene, &s, &RenderOptions::default())?;
         let mut command = format!(
             "{} --integrator {integrator} --spp {} --seed {}",
             self.common_flags(),
@@ -164,7 +165,7 @@ impl<'a> Runner<'a> {
             }
             _ => {}
         }
-        Produced {
+        Ok(Produced {
             image: out.image,
             quantity: None,
             seconds: out.render_seconds,
@@ -174,7 +175,7 @@ impl<'a> Runner<'a> {
                 "BVH build {:.3} s (not counted)",
                 out.build_seconds
             )],
-        }
+        })
     }
 
     /// The scene with its environment map replaced by the map's mean
@@ -401,7 +402,7 @@ impl<'a> Runner<'a> {
         &mut self,
         seconds: f64,
         full: &Image,
-    ) -> Result<Option<EqualTime>, ImageError> {
+    ) -> Result<Option<EqualTime>, StudyError> {
         let per_spp = match self.path_seconds_per_spp {
             Some(t) => t,
             None => {
@@ -410,7 +411,7 @@ impl<'a> Runner<'a> {
                     self.scene,
                     &self.settings(IntegratorKind::Path, 2),
                     &RenderOptions::default(),
-                );
+                )?;
                 let t = out.render_seconds / 2.0;
                 self.path_seconds_per_spp = Some(t);
                 t
@@ -427,7 +428,7 @@ impl<'a> Runner<'a> {
             self.scene,
             &self.settings(IntegratorKind::Path, spp),
             &RenderOptions::default(),
-        );
+        )?;
         let e = EqualTime {
             spp,
             seconds: out.render_seconds,

@@ -12,6 +12,7 @@ use crate::technique::{Technique, TruthKind};
 use crate::truth::{Converged, Target, converge};
 use penumbra_image::{Image, ToneMapping, ToneOperator, flip_heatmap, read_image, write_image};
 use penumbra_scene::{IntegratorKind, RenderSettings, Scene};
+use penumbra_trace::geometry::SceneGeometry;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -65,6 +66,9 @@ pub fn run_study(
 ) -> Result<Study, StudyError> {
     let start = Instant::now();
     output_dir::check(dir)?;
+    // Refused before any work: neither the truth nor a traced row could
+    // render it.
+    SceneGeometry::check_size(scene)?;
     if options.techniques.is_empty() {
         return Err(StudyError::Input("no techniques to study".into()));
     }
@@ -137,7 +141,7 @@ pub fn run_study(
                     integrator,
                     options.target,
                     options.time_budget,
-                );
+                )?;
                 if kind == TruthKind::Path {
                     runner.path_seconds_per_spp = Some(c.seconds_per_spp());
                 }

@@ -8,7 +8,7 @@
 use penumbra_image::Image;
 use penumbra_image::noise_rel_mse;
 use penumbra_scene::{IntegratorKind, RenderSettings, Scene};
-use penumbra_trace::{RenderOptions, render};
+use penumbra_trace::{RenderOptions, SceneTooLarge, render};
 use std::time::{Duration, Instant};
 
 /// When a truth is good enough.
@@ -59,7 +59,7 @@ pub fn converge(
     integrator: IntegratorKind,
     target: Target,
     budget: Option<f64>,
-) -> Converged {
+) -> Result<Converged, SceneTooLarge> {
     let start = Instant::now();
     let pass = |spp: u32, seed: u32, limit: Option<f64>| {
         let settings = RenderSettings {
@@ -77,17 +77,17 @@ pub fn converge(
     let remaining = |start: Instant| budget.map(|b| b - start.elapsed().as_secs_f64());
     match target {
         Target::Spp(n) => {
-            let out = pass(n, base.seed, budget);
-            Converged {
+            let out = pass(n, base.seed, budget)?;
+            Ok(Converged {
                 stopped_by_budget: out.spp < n,
                 image: out.image,
                 variance: out.variance,
                 spp: out.spp,
                 seconds: out.render_seconds,
-            }
+            })
         }
         Target::RelMse(goal) => {
-            let first = pass(PILOT_SPP, base.seed, budget);
+            let first = pass(PILOT_SPP, base.seed, budget)?;
             let mut c = Converged {
                 stopped_by_budget: first.spp < PILOT_SPP,
                 image: first.image,
@@ -114,12 +114,12 @@ pub fn converge(
                 }
                 // Independent samples: another seed decorrelates the sampler.
                 let seed = base.seed.wrapping_add(0x9e37_79b9u32.wrapping_mul(round));
-                let next = pass(more, seed, limit);
+                let next = pass(more, seed, limit)?;
                 c.stopped_by_budget = next.spp < more;
                 merge(&mut c, &next.image, &next.variance, next.spp);
                 c.seconds += next.render_seconds;
             }
-            c
+            Ok(c)
         }
     }
 }
@@ -178,7 +178,8 @@ mod tests {
             IntegratorKind::Path,
             Target::RelMse(goal),
             None,
-        );
+        )
+        .unwrap();
         assert!(!c.stopped_by_budget);
         assert!(c.spp > PILOT_SPP, "{} spp", c.spp);
         // The prediction assumes relMSE ∝ 1/spp; allow its own noise.
@@ -188,5 +189,30 @@ mod tests {
             c.noise(),
             c.spp
         );
+    }
+
+    /// A scene of 2²⁷ triangles (a 2²⁰-triangle mesh placed 128 times),
+    /// one more than the BVH holds: the truth render is an error, not a
+    /// panic.
+    #[test]
+    fn a_scene_past_the_bvh_limit_is_an_error() {
+        let mut scene = penumbra_scene::Scene::default();
+        let mesh = penumbra_scene::Mesh {
+            positions: vec![glam::Vec3::ZERO, glam::Vec3::X, glam::Vec3::Y],
+            indices: vec![[0, 1, 2]; 1 << 20],
+            ..Default::default()
+        };
+        scene.add_mesh(mesh, glam::Mat4::IDENTITY);
+        scene.instances.resize(128, scene.instances[0].clone());
+        let settings = scene.settings.clone();
+        let err = converge(
+            &scene,
+            &settings,
+            IntegratorKind::Path,
+            Target::Spp(1),
+            None,
+        )
+        .err();
+        assert_eq!(err.map(|e| e.triangles), Some(1 << 27));
     }
 }

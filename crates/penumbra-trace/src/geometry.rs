@@ -69,6 +69,17 @@ pub struct SurfaceHit {
     pub light: Option<u32>,
 }
 
+/// A scene with more triangles, every instance counted, than the BVH
+/// holds ([`Accel::MAX_TRIANGLES`]): bad input, refused before any work.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "{triangles} triangles with every instance counted; penumbra's BVH holds at most {}",
+    Accel::MAX_TRIANGLES
+)]
+pub struct SceneTooLarge {
+    pub triangles: usize,
+}
+
 /// Scene triangles in world space with a BVH over them.
 #[derive(Debug)]
 pub struct SceneGeometry {
@@ -91,7 +102,20 @@ pub struct SceneGeometry {
 }
 
 impl SceneGeometry {
-    pub fn build(scene: &Scene, quality: BuildQuality) -> Self {
+    /// Whether `scene` fits the BVH: counts its triangles (every instance
+    /// counted), allocates nothing.
+    pub fn check_size(scene: &Scene) -> Result<(), SceneTooLarge> {
+        let triangles = scene.triangle_count();
+        if triangles > Accel::MAX_TRIANGLES {
+            return Err(SceneTooLarge { triangles });
+        }
+        Ok(())
+    }
+
+    /// Flattens `scene` and builds its BVH; an error, before anything is
+    /// allocated, for a scene the BVH cannot hold.
+    pub fn build(scene: &Scene, quality: BuildQuality) -> Result<Self, SceneTooLarge> {
+        Self::check_size(scene)?;
         let mut triangles = Vec::with_capacity(scene.triangle_count());
         let mut sources = Vec::with_capacity(scene.triangle_count());
         let mut instances = Vec::with_capacity(scene.instances.len());
@@ -148,7 +172,7 @@ impl SceneGeometry {
             },
             || TextureLevels::new(scene),
         );
-        Self {
+        Ok(Self {
             accel,
             accel_seconds,
             texture_levels,
@@ -158,7 +182,7 @@ impl SceneGeometry {
             area_lights: scene.area_lights.iter().map(|l| l.light).collect(),
             alpha_uvs,
             alpha_textures,
-        }
+        })
     }
 
     /// Whether some triangles have a coverage test (the BVH queries then

@@ -14,6 +14,7 @@ pub mod stages;
 pub mod stats;
 pub mod texture_lod;
 
+pub use geometry::SceneTooLarge;
 pub use render::{
     Crop, MIN_SPP_FOR_TARGET, Progress, RenderOptions, RenderOutput, Resume, Stop, render,
     scene_camera, scene_camera_for,

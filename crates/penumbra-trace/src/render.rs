@@ -9,7 +9,7 @@
 //! ([`RenderOptions::resume`]), adds up to the same bits as one whole render.
 
 use crate::accel::BuildQuality;
-use crate::geometry::SceneGeometry;
+use crate::geometry::{SceneGeometry, SceneTooLarge};
 use crate::integrator::TraceContext;
 use crate::lights::LightSampler;
 use crate::stages::{Stage, timed};
@@ -175,14 +175,19 @@ fn tiles(crop: &Crop) -> Vec<TileRect> {
     out
 }
 
-/// Renders `scene` with `settings` (which override the scene's own).
+/// Renders `scene` with `settings` (which override the scene's own); an
+/// error, before any work, for a scene larger than the BVH holds.
 ///
 /// Panics if `options` are inconsistent (a crop outside the image, a sample
 /// range beyond `settings.spp`, a resume film of another window or past the
 /// range): callers check user input first.
-pub fn render(scene: &Scene, settings: &RenderSettings, options: &RenderOptions) -> RenderOutput {
+pub fn render(
+    scene: &Scene,
+    settings: &RenderSettings,
+    options: &RenderOptions,
+) -> Result<RenderOutput, SceneTooLarge> {
     let t0 = Instant::now();
-    let geometry = SceneGeometry::build(scene, options.build_quality);
+    let geometry = SceneGeometry::build(scene, options.build_quality)?;
     let lights = LightSampler::new(scene, &geometry);
     let build_seconds = t0.elapsed().as_secs_f64();
     let (w, h) = (settings.width, settings.height);
@@ -286,7 +291,7 @@ pub fn render(scene: &Scene, settings: &RenderSettings, options: &RenderOptions)
             }
         }
     }
-    RenderOutput {
+    Ok(RenderOutput {
         image: film.mean(),
         variance: film.variance(),
         aovs: aov_names
@@ -301,7 +306,7 @@ pub fn render(scene: &Scene, settings: &RenderSettings, options: &RenderOptions)
         stop,
         build_seconds,
         render_seconds: t1.elapsed().as_secs_f64(),
-    }
+    })
 }
 
 /// Whether `film`, holding `spp` samples per pixel, estimates its own

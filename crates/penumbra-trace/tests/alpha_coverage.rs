@@ -52,7 +52,7 @@ fn blend_is_met_with_probability_alpha() {
                 texture: None,
             },
         );
-        let geometry = SceneGeometry::build(&scene, BuildQuality::Medium);
+        let geometry = SceneGeometry::build(&scene, BuildQuality::Medium).unwrap();
         let (mut hits, mut n) = (0, 0);
         for ray in rays_down() {
             let hit = geometry.intersect(&scene, &ray).is_some();
@@ -106,7 +106,7 @@ fn mask_cuts_where_alpha_is_below_the_cutoff() {
                 texture: Some(0),
             },
         );
-        let geometry = SceneGeometry::build(&s, BuildQuality::Medium);
+        let geometry = SceneGeometry::build(&s, BuildQuality::Medium).unwrap();
         for ray in rays_down() {
             // u = (x + 1) / 2: left of x = −0.2 reads 0.2, right of 0.2 reads 0.8.
             let x = ray.origin.x;
@@ -148,7 +148,7 @@ fn mask_reads_the_uv_interpolated_at_the_hit() {
         Vec2::new(0.0, 1.0),
         Vec2::new(1.0, 1.0),
     ]);
-    let geometry = SceneGeometry::build(&scene, BuildQuality::Medium);
+    let geometry = SceneGeometry::build(&scene, BuildQuality::Medium).unwrap();
     let mut checked = 0;
     for ray in rays_down() {
         let x = ray.origin.x;
@@ -198,7 +198,7 @@ fn a_render_through_blend_averages_alpha_of_the_surface() {
         Projection::Orthographic { height: 1.5 },
     ));
     let s = settings(IntegratorKind::Path, 16, 16, 64, 8);
-    let out = render(&scene, &s, &RenderOptions::default());
+    let out = render(&scene, &s, &RenderOptions::default()).unwrap();
     let mean: f64 = out.image.pixels.iter().map(|p| p.x as f64).sum::<f64>()
         / (out.image.width * out.image.height) as f64;
     let n = (16 * 16 * 64) as f64;

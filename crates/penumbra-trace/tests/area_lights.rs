@@ -66,6 +66,7 @@ fn radiance_at(scene: &Scene, p: Vec3, view: Vec3, kind: IntegratorKind, spp: u3
         ao_distance: f32::INFINITY,
     };
     render(&scene, &settings, &RenderOptions::default())
+        .unwrap()
         .image
         .get(0, 0)
         .x
@@ -265,7 +266,7 @@ fn area_lights_occlude_and_are_hit() {
         },
         1.0,
     );
-    let g = SceneGeometry::build(&scene, BuildQuality::Fast);
+    let g = SceneGeometry::build(&scene, BuildQuality::Fast).unwrap();
     let up = Ray::new(Vec3::new(0.0, 0.1, 0.0), Vec3::Y);
     assert!(g.occluded(&up));
     assert!(!g.occluded(&Ray::segment(Vec3::new(0.0, 0.1, 0.0), Vec3::Y, 1.0)));

@@ -41,7 +41,8 @@ fn furnace_gives_le_over_one_minus_rho() {
             &scene,
             &settings(IntegratorKind::Path, 32, 32, 64, 1000),
             &RenderOptions::default(),
-        );
+        )
+        .unwrap();
         let mean = out.image.mean();
         let expected = le / (1.0 - rho);
         for c in [mean.x, mean.y, mean.z] {
@@ -88,7 +89,8 @@ fn furnace_with_an_emission_texture() {
             &scene,
             &settings(integrator, 32, 32, 64, 1000),
             &RenderOptions::default(),
-        );
+        )
+        .unwrap();
         let mean = out.image.mean().x;
         // Direct light: the emission seen plus one bounce, Le(1 + ρ).
         let want = match integrator {
@@ -143,7 +145,8 @@ fn point_light_over_plane() {
             &scene,
             &settings(integrator, n, n, 64, 2),
             &RenderOptions::default(),
-        );
+        )
+        .unwrap();
         let cam = scene.camera.unwrap();
         let mut worst = 0.0f32;
         for py in 0..n {
@@ -173,6 +176,7 @@ fn ao_at(scene: &Scene, p: Vec3, spp: u32) -> f32 {
     scene.camera = Some(top_down_camera(p, 1e-4));
     let s = settings(IntegratorKind::Ao, 1, 1, spp, 2);
     render(&scene, &s, &RenderOptions::default())
+        .unwrap()
         .image
         .get(0, 0)
         .x
@@ -228,6 +232,7 @@ fn ambient_occlusion_closed_forms() {
     st.ao_distance = 1.0;
     assert_eq!(
         render(&s2, &st, &RenderOptions::default())
+            .unwrap()
             .image
             .get(0, 0)
             .x,
@@ -254,6 +259,7 @@ fn emitter_front_side_only() {
     let s = settings(IntegratorKind::Path, 4, 4, 4, 8);
     assert_eq!(
         render(&scene, &s, &RenderOptions::default())
+            .unwrap()
             .image
             .get(1, 1),
         Rgb::new(1.0, 2.0, 3.0)
@@ -266,6 +272,7 @@ fn emitter_front_side_only() {
     ));
     assert_eq!(
         render(&scene, &s, &RenderOptions::default())
+            .unwrap()
             .image
             .get(1, 1),
         Rgb::ZERO

@@ -28,6 +28,7 @@ fn same_seed_same_exr_with_one_and_two_threads() {
                     ..Default::default()
                 },
             )
+            .unwrap()
         });
         let path = dir.path().join(format!("t{threads}.exr"));
         let aovs: Vec<(&str, &penumbra_image::Image)> =
@@ -38,12 +39,12 @@ fn same_seed_same_exr_with_one_and_two_threads() {
     assert_eq!(files[0], files[1]);
     // A different seed gives a different image.
     settings.seed += 1;
-    let other = render(&scene, &settings, &RenderOptions::default());
+    let other = render(&scene, &settings, &RenderOptions::default()).unwrap();
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(1)
         .build()
         .unwrap();
     settings.seed -= 1;
-    let same = pool.install(|| render(&scene, &settings, &RenderOptions::default()));
+    let same = pool.install(|| render(&scene, &settings, &RenderOptions::default()).unwrap());
     assert_ne!(other.image, same.image);
 }

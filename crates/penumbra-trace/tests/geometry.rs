@@ -82,7 +82,7 @@ fn close(a: Vec3, b: Vec3) -> bool {
 #[test]
 fn triangles_know_their_instance() {
     let s = scene();
-    let g = SceneGeometry::build(&s, BuildQuality::Fast);
+    let g = SceneGeometry::build(&s, BuildQuality::Fast).unwrap();
     assert_eq!(g.triangles.len(), 5);
     for (instance, range) in [(0, 0..1), (1, 1..2), (2, 2..3), (3, 3..5), (4, 5..5)] {
         assert_eq!(g.instance_triangles(instance), range, "instance {instance}");
@@ -101,7 +101,7 @@ fn triangles_know_their_instance() {
 /// reverses the winding, and the front stays where it was (+z).
 #[test]
 fn front_faces_and_areas() {
-    let g = SceneGeometry::build(&scene(), BuildQuality::Fast);
+    let g = SceneGeometry::build(&scene(), BuildQuality::Fast).unwrap();
     assert_eq!(g.front_normal_scaled(0), Vec3::new(0.0, 0.0, 6.0));
     assert_eq!(g.front_normal_scaled(1), Vec3::new(0.0, 0.0, 12.0));
     assert_eq!(g.front_normal_scaled(2), Vec3::new(0.0, 0.0, 6.0));
@@ -113,7 +113,7 @@ fn front_faces_and_areas() {
 #[test]
 fn a_hit_reports_its_surface() {
     let s = scene();
-    let g = SceneGeometry::build(&s, BuildQuality::Fast);
+    let g = SceneGeometry::build(&s, BuildQuality::Fast).unwrap();
     let h = g.intersect(&s, &down(0.5, 1.5)).expect("a hit");
     assert_eq!((h.triangle, h.light, h.material), (0, None, 0));
     assert!((h.t - 10.0).abs() < 1e-5 && (h.b1 - B1).abs() < 1e-6 && (h.b2 - B2).abs() < 1e-6);
@@ -180,7 +180,7 @@ fn shading_normals_face_the_front() {
     let mut zero = triangle(0);
     zero.normals = Some(vec![Vec3::ZERO; 3]);
     s.add_mesh(zero, Mat4::from_translation(Vec3::X * 10.0));
-    let g = SceneGeometry::build(&s, BuildQuality::Fast);
+    let g = SceneGeometry::build(&s, BuildQuality::Fast).unwrap();
     for x in [0.5, 10.5] {
         let h = g.intersect(&s, &down(x, 1.5)).expect("a hit");
         assert_eq!((h.ng, h.ns), (Vec3::Z, Vec3::Z), "x = {x}");
@@ -196,7 +196,7 @@ fn shading_normals_face_the_front() {
 #[test]
 fn uvs_and_their_area_ratios() {
     let s = scene();
-    let g = SceneGeometry::build(&s, BuildQuality::Fast);
+    let g = SceneGeometry::build(&s, BuildQuality::Fast).unwrap();
     let [u0, u1] = g.uvs_at(&s, 1, B1, B2);
     assert_eq!((u0, u1), (Vec2::new(B1, B2), Vec2::new(0.5, 1.0)));
     // Triangle 0: world area 3, UV areas ½ and 2; stretched: world area 6.
@@ -216,7 +216,7 @@ fn uvs_and_their_area_ratios() {
     flipped.uv0 = Some(vec![Vec2::ZERO, Vec2::Y, Vec2::X]);
     flipped.uv1 = Some(vec![Vec2::ZERO, Vec2::X, Vec2::X * 3.0]);
     s2.add_mesh(flipped, Mat4::IDENTITY);
-    let g2 = SceneGeometry::build(&s2, BuildQuality::Fast);
+    let g2 = SceneGeometry::build(&s2, BuildQuality::Fast).unwrap();
     assert_eq!(g2.uv_area_ratio(&s2, 0), [0.5 / 3.0, 0.0]);
 }
 
@@ -225,7 +225,7 @@ fn uvs_and_their_area_ratios() {
 #[test]
 fn tangents_in_world_space() {
     let s = scene();
-    let g = SceneGeometry::build(&s, BuildQuality::Fast);
+    let g = SceneGeometry::build(&s, BuildQuality::Fast).unwrap();
     // (1/4)(1,0,0) + (1/4)(1,0,0) + (1/2)(0,1,0) = (½, ½, 0), w = +1.
     assert_eq!(
         g.tangent_at(&s, 0, B1, B2),
@@ -243,7 +243,7 @@ fn tangents_in_world_space() {
     // Vertex 0's handedness decides: −1 there gives −1 (+1 when mirrored).
     let mut s2 = scene();
     s2.meshes[0].tangents.as_mut().unwrap()[0].w = -1.0;
-    let g2 = SceneGeometry::build(&s2, BuildQuality::Fast);
+    let g2 = SceneGeometry::build(&s2, BuildQuality::Fast).unwrap();
     assert_eq!(g2.tangent_at(&s2, 0, B1, B2).unwrap().w, -1.0);
     assert_eq!(g2.tangent_at(&s2, 2, B1, B2).unwrap().w, 1.0);
 }
@@ -266,7 +266,7 @@ fn area_lights_against_triangles() {
     // Behind the triangle: never seen from above.
     s.area_lights
         .push(sphere_light(Vec3::new(11.0, 1.5, -5.0), 1.0));
-    let g = SceneGeometry::build(&s, BuildQuality::Fast);
+    let g = SceneGeometry::build(&s, BuildQuality::Fast).unwrap();
     let h = g.intersect(&s, &down(0.5, 1.5)).expect("a hit");
     assert_eq!((h.light, h.triangle), (Some(1), u32::MAX));
     assert!((h.t - 4.0).abs() < 1e-5 && close(h.p, Vec3::new(0.5, 1.5, 6.0)));
@@ -315,7 +315,7 @@ fn camera_segments_keep_their_length_through_culled_faces() {
             plain,
         );
         s.add_mesh(front, Mat4::IDENTITY);
-        let g = SceneGeometry::build(&s, BuildQuality::Fast);
+        let g = SceneGeometry::build(&s, BuildQuality::Fast).unwrap();
         let ray = Ray::segment(Vec3::new(0.1, 0.2, 10.0), -Vec3::Z, 5.0);
         let hit = g.intersect_camera(&s, &ray);
         assert_eq!(hit.is_some(), seen, "far face at t = {far}");
@@ -327,4 +327,48 @@ fn camera_segments_keep_their_length_through_culled_faces() {
         let h = g.intersect(&s, &ray).expect("the one-sided face");
         assert!((h.t - 2.0).abs() < 1e-5);
     }
+}
+
+/// A scene of `instances` placements of a 2²⁰-triangle mesh (one triangle
+/// repeated), less `fewer` triangles in the last placement's own mesh:
+/// 12 MB of indices whatever the count, for the BVH's limit.
+fn placed_many_times(instances: usize, fewer: usize) -> Scene {
+    let mut s = Scene::default();
+    let mesh = |n: usize| Mesh {
+        indices: vec![[0, 1, 2]; n],
+        ..triangle(0)
+    };
+    let big = s.add_mesh(mesh(1 << 20), Mat4::IDENTITY);
+    for _ in 2..instances {
+        s.instances.push(Instance::new(big, Mat4::IDENTITY));
+    }
+    s.add_mesh(mesh((1 << 20) - fewer), Mat4::IDENTITY);
+    s
+}
+
+/// 2²⁷ triangles, one more than the BVH holds (2²⁷ − 1): `render` and
+/// `SceneGeometry::build` return the error with the count, at once and
+/// without building anything; at exactly the limit the size check passes.
+#[test]
+fn a_scene_past_the_bvh_limit_is_an_error() {
+    use penumbra_trace::{RenderOptions, SceneTooLarge, render};
+    let over = placed_many_times(128, 0);
+    let expected = SceneTooLarge { triangles: 1 << 27 };
+    assert_eq!(SceneGeometry::check_size(&over), Err(expected));
+    assert_eq!(
+        SceneGeometry::build(&over, BuildQuality::Fast).err(),
+        Some(expected)
+    );
+    let settings = over.settings.clone();
+    assert_eq!(
+        render(&over, &settings, &RenderOptions::default()).err(),
+        Some(expected)
+    );
+    assert_eq!(
+        expected.to_string(),
+        "134217728 triangles with every instance counted; penumbra's BVH holds at most 134217727"
+    );
+    let at_limit = placed_many_times(128, 1);
+    assert_eq!(at_limit.triangle_count(), (1 << 27) - 1);
+    assert_eq!(SceneGeometry::check_size(&at_limit), Ok(()));
 }

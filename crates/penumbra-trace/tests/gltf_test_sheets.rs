@@ -102,6 +102,7 @@ fn head_on(file: &Path, height: u32, spp: u32) -> penumbra_trace::RenderOutput {
             ..Default::default()
         },
     )
+    .unwrap()
 }
 
 /// TEXCOORD_1 (penumbra-scene's corpus file `ok_texcoord1.gltf`): four

@@ -22,7 +22,7 @@ fn ceiling_quad(x0: f32, y: f32, material: usize) -> Mesh {
 }
 
 fn sampler(scene: &Scene) -> (SceneGeometry, LightSampler) {
-    let geometry = SceneGeometry::build(scene, BuildQuality::Fast);
+    let geometry = SceneGeometry::build(scene, BuildQuality::Fast).unwrap();
     let lights = LightSampler::new(scene, &geometry);
     (geometry, lights)
 }

@@ -60,7 +60,8 @@ fn look_down_with(
             aovs: true,
             ..RenderOptions::default()
         },
-    );
+    )
+    .unwrap();
     let depth = out
         .aovs
         .iter()
@@ -177,7 +178,7 @@ fn ambient_occlusion_at_the_foot_of_a_wall() {
             grey,
         ),
     );
-    let geometry = SceneGeometry::build(&scene, BuildQuality::Fast);
+    let geometry = SceneGeometry::build(&scene, BuildQuality::Fast).unwrap();
     let lights = LightSampler::new(&scene, &geometry);
     let settings = settings(IntegratorKind::Ao, 1, 1, 1, 1);
     let ctx = TraceContext {
@@ -247,7 +248,7 @@ fn sampled_light_arrives_on_the_next_segment() {
         )),
     });
     let irradiance = |scene: &Scene, bounces: u32| {
-        let geometry = SceneGeometry::build(scene, BuildQuality::Fast);
+        let geometry = SceneGeometry::build(scene, BuildQuality::Fast).unwrap();
         let lights = LightSampler::new(scene, &geometry);
         let settings = settings(IntegratorKind::Path, 1, 1, 1, 8);
         let ctx = TraceContext {

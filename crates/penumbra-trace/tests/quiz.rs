@@ -20,7 +20,7 @@ fn render_toml(text: &str, integrator: IntegratorKind) -> Vec<Rgb> {
     let scene = load_scene(&path, &LoadOptions::default()).unwrap();
     let mut settings = scene.settings.clone();
     settings.integrator = integrator;
-    let out = render(&scene, &settings, &RenderOptions::default());
+    let out = render(&scene, &settings, &RenderOptions::default()).unwrap();
     let (w, h) = (settings.width, settings.height);
     (0..h)
         .flat_map(|y| (0..w).map(move |x| (x, y)))

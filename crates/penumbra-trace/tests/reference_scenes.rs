@@ -62,7 +62,7 @@ fn check_in(
     settings.spp = spp;
     settings.max_depth = max_depth;
     settings.seed = 1;
-    let out = render(&scene, &settings, &RenderOptions::default());
+    let out = render(&scene, &settings, &RenderOptions::default()).unwrap();
     let (m_ref, m_out) = (reference.mean(), out.image.mean());
     let e = rel_mse(&reference, &out.image);
     let mean_ok = (0..3).all(|c| (m_out[c] / m_ref[c] - 1.0).abs() < 0.01);

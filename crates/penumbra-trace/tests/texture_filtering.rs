@@ -71,7 +71,8 @@ fn pixels(scene: &Scene, integrator: IntegratorKind, n: u32, max_depth: u32) -> 
         scene,
         &settings(integrator, n, n, 1, max_depth),
         &RenderOptions::default(),
-    );
+    )
+    .unwrap();
     out.image.pixels.iter().map(|p| p.x).collect()
 }
 

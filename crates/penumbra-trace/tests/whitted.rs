@@ -72,7 +72,8 @@ fn mirror_at_45_degrees_reflects_a_known_emitter_exactly() {
                 &scene,
                 &settings(kind, 8, 8, 4, 3),
                 &RenderOptions::default(),
-            );
+            )
+            .unwrap();
             let expected = reflectance * le;
             for y in 0..8 {
                 for x in 0..8 {
@@ -162,12 +163,14 @@ fn whitted_and_path_agree_on_a_specular_scene() {
         &scene,
         &settings(IntegratorKind::Whitted, w, h, 64, 3),
         &RenderOptions::default(),
-    );
+    )
+    .unwrap();
     let path = render(
         &scene,
         &settings(IntegratorKind::Path, w, h, 256, 3),
         &RenderOptions::default(),
-    );
+    )
+    .unwrap();
     // Compare 8×8-pixel block means (pixel-level noise of the path tracer's
     // lobe and light choices averages out) and the image mean.
     let block = |img: &penumbra_image::Image, bx: u32, by: u32| {

@@ -53,7 +53,7 @@ pub fn wall_z(x0: f32, x1: f32, h: f32) -> Mesh {
 
 /// Every baked texel with its world point and front normal.
 pub fn baked_points(scene: &Scene, bake: &Bake) -> Vec<(Texel, Vec3, Vec3)> {
-    let geometry = SceneGeometry::build(scene, BuildQuality::default());
+    let geometry = SceneGeometry::build(scene, BuildQuality::default()).unwrap();
     bake.texels
         .texels
         .iter()

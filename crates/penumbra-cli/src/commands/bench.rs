@@ -345,7 +345,7 @@ fn run_raster(args: &BenchArgs) -> Result<()> {
 
 fn run_measures(args: &BenchArgs, scene: &Scene, load: Option<Measure>) -> Result<()> {
     let start = std::time::Instant::now();
-    let mut geometry = SceneGeometry::build(scene, BuildQuality::Medium);
+    let mut geometry = SceneGeometry::build(scene, BuildQuality::Medium)?;
     // With textures, their mip chains build beside the BVH: the wall time
     // of both is what a render waits for after loading.
     let prepare = (!scene.textures.is_empty()).then(|| Measure {
@@ -451,18 +451,18 @@ fn run_measures(args: &BenchArgs, scene: &Scene, load: Option<Measure>) -> Resul
         settings.spp = args.spp;
         let path = |name, scene: &Scene| {
             let rays = penumbra_trace::stats::rays_traced();
-            let out = render(scene, &settings, &RenderOptions::default());
-            Measure {
+            let out = render(scene, &settings, &RenderOptions::default())?;
+            anyhow::Ok(Measure {
                 name,
                 seconds: out.render_seconds,
                 count: settings.width as u64 * settings.height as u64 * out.spp as u64,
                 // The rays traced (closest-hit and shadow), in `hits`.
                 hits: penumbra_trace::stats::rays_traced() - rays,
-            }
+            })
         };
         if scene.textures.is_empty() {
             penumbra_trace::stages::take();
-            let m = path("path", scene);
+            let m = path("path", scene)?;
             report(&m, args.json, "Msamples/s");
             if let Some(stages) = penumbra_trace::stages::take() {
                 report_stages(&stages, m.count, args.json);
@@ -475,11 +475,11 @@ fn run_measures(args: &BenchArgs, scene: &Scene, load: Option<Measure>) -> Resul
             // in the order plain, textured, textured, plain, each the sum
             // of its two renders.
             let abba = |name, variant: &Scene| {
-                let first = path(name, variant);
-                let textured = sum(path("path", scene), path("path", scene));
-                (textured, sum(first, path(name, variant)))
+                let first = path(name, variant)?;
+                let textured = sum(path("path", scene)?, path("path", scene)?);
+                anyhow::Ok((textured, sum(first, path(name, variant)?)))
             };
-            let (textured, plain) = abba("path-untextured", &without_maps(scene, |_| true));
+            let (textured, plain) = abba("path-untextured", &without_maps(scene, |_| true))?;
             report(&textured, args.json, "Msamples/s");
             report(&plain, args.json, "Msamples/s");
             // Per ray as well: the textures also change the paths (normal
@@ -510,7 +510,7 @@ fn run_measures(args: &BenchArgs, scene: &Scene, load: Option<Measure>) -> Resul
                     if !scene.materials.iter().any(|m| kind.textured(m)) {
                         continue;
                     }
-                    let (textured, variant) = abba(name, &without_maps(scene, |k| k == kind));
+                    let (textured, variant) = abba(name, &without_maps(scene, |k| k == kind))?;
                     report(&variant, args.json, "Msamples/s");
                     if !args.json {
                         let (total, ray) = cost(&textured, &variant);

@@ -41,7 +41,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
         settings.integrator = IntegratorKind::Path;
         settings.spp = spp;
         let r0 = rays_traced();
-        let out = render(&scene, &settings, &RenderOptions::default());
+        let out = render(&scene, &settings, &RenderOptions::default())?;
         line("path", out.render_seconds, rays_traced() - r0, String::new());
         let atlas = AtlasSettings::default();
         let lm = bake_lightmap(

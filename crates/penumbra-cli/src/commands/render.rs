@@ -355,7 +355,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
         target_rel_mse: args.parts.target_relmse,
         ..Default::default()
     };
-    let out = pool.install(|| render(&scene, &settings, &options));
+    let out = pool.install(|| render(&scene, &settings, &options))?;
     if let Some(b) = &bar {
         b.finish_and_clear();
     }

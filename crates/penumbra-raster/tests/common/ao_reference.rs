@@ -32,7 +32,7 @@ pub fn ao_render(scene: &Scene, size: u32, radius: f32, spp: u32) -> Image {
         ao_distance: radius,
         ..Default::default()
     };
-    render(scene, &s, &RenderOptions::default()).image
+    render(scene, &s, &RenderOptions::default()).unwrap().image
 }
 
 fn key(scene: &Scene, size: u32, radius: f32) -> String {

@@ -95,7 +95,9 @@ pub fn cpu_with(scene: &Scene, camera: Camera, integrator: IntegratorKind) -> Im
     settings.height = RES;
     settings.spp = 4;
     settings.integrator = integrator;
-    render(&scene, &settings, &RenderOptions::default()).image
+    render(&scene, &settings, &RenderOptions::default())
+        .unwrap()
+        .image
 }
 
 pub fn cpu(scene: &Scene, integrator: IntegratorKind) -> Image {

@@ -71,7 +71,8 @@ pub enum BuildQuality {
 
 impl Accel {
     /// The most triangles a BVH holds: 2²⁷ − 1, the range of a leaf
-    /// code's first-triangle field. Callers check user scenes against it.
+    /// code's first-triangle field. `SceneGeometry::build` checks scenes
+    /// against it before building.
     pub const MAX_TRIANGLES: usize = wide::MAX_TRIANGLES;
 
     /// Builds over `triangles` (world space). An empty list gives an

@@ -312,7 +312,7 @@ mod tests {
     }
 
     fn with_context(scene: &Scene, test: impl FnOnce(&TraceContext)) {
-        let geometry = SceneGeometry::build(scene, BuildQuality::Fast);
+        let geometry = SceneGeometry::build(scene, BuildQuality::Fast).unwrap();
         let lights = LightSampler::new(scene, &geometry);
         let settings = RenderSettings::default();
         test(&TraceContext {

@@ -122,7 +122,7 @@ mod tests {
         let mut slab = primitives::cuboid(Vec3::new(-50.0, -t, -50.0), Vec3::new(50.0, 0.0, 50.0));
         slab.material = glass;
         scene.add_mesh(slab, Mat4::IDENTITY);
-        let geometry = SceneGeometry::build(&scene, BuildQuality::Medium);
+        let geometry = SceneGeometry::build(&scene, BuildQuality::Medium).unwrap();
         let lights = LightSampler::new(&scene, &geometry);
         let settings = RenderSettings::default();
         let ctx = TraceContext {
