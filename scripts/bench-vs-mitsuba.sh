@@ -12,6 +12,12 @@
 #
 # Several binaries (say the builds before and after a change) are run one
 # after another in the same run, so that their ratios share Mitsuba's time.
+#
+# MITSUBA_SCALAR=1 also renders with Mitsuba's scalar_rgb variant (one
+# path at a time, Embree's single-ray queries: penumbra's own paradigm;
+# llvm_ad_rgb runs many paths in SIMD lanes) and prints the ratios to it
+# too: what separates penumbra from llvm_ad_rgb is then split into the
+# per-path work and the SIMD across paths.
 # Results: $OUT (default /tmp/bench-vs-mitsuba): the EXRs, results.jsonl and
 # summary.txt.
 set -euo pipefail
@@ -31,6 +37,12 @@ scene() {
   "$PY" "$ANCHORS/render_mitsuba.py" "$json" --spp 256 --max-depth "$depth" --runs 2 --warmup 1 \
     --out "$OUT/mitsuba-$name.exr" | tail -1 | tee -a "$OUT/results.jsonl"
   local tests=("$OUT/mitsuba-$name.exr")
+  if [ "${MITSUBA_SCALAR:-0}" = 1 ]; then
+    # No JIT to warm up; one run, as it takes about three llvm runs' time.
+    "$PY" "$ANCHORS/render_mitsuba.py" "$json" --variant scalar_rgb --spp 256 --max-depth "$depth" \
+      --runs 1 --warmup 0 --out "$OUT/mitsuba-scalar-$name.exr" | tail -1 | tee -a "$OUT/results.jsonl"
+    tests+=("$OUT/mitsuba-scalar-$name.exr")
+  fi
   local k=0
   for bin in "$@"; do
     k=$((k + 1))
@@ -59,12 +71,18 @@ for r in rows:
         relmse[os.path.basename(r["test"])] = r["relmse"]
     elif "exr" in r and "seconds" in r:
         seconds[os.path.basename(r["exr"])] = (r.get("binary", r["tool"]), r["seconds"])
+efficiency = lambda exr: 1.0 / (relmse[exr] * seconds[exr][1])
 for scene in ("glass", "cornell"):
     base = f"mitsuba-{scene}.exr"
-    mitsuba = 1.0 / (relmse[base] * seconds[base][1])
+    scalar = f"mitsuba-scalar-{scene}.exr"
     print(f"{scene}: Mitsuba {seconds[base][1]:.2f} s, relMSE {relmse[base]:.5f}")
+    if scalar in seconds:
+        print(f"  Mitsuba scalar_rgb: {seconds[scalar][1]:.2f} s, relMSE {relmse[scalar]:.5f}, "
+              f"efficiency {efficiency(scalar) / efficiency(base):.2f}x Mitsuba's")
     for exr, (who, s) in sorted(seconds.items()):
         if exr.startswith("penumbra") and exr.endswith(f"-{scene}.exr"):
-            eff = 1.0 / (relmse[exr] * s)
-            print(f"  {who}: {s:.2f} s, relMSE {relmse[exr]:.5f}, efficiency {eff / mitsuba:.2f}x Mitsuba's")
+            line = f"  {who}: {s:.2f} s, relMSE {relmse[exr]:.5f}, efficiency {efficiency(exr) / efficiency(base):.2f}x Mitsuba's"
+            if scalar in seconds:
+                line += f", {efficiency(exr) / efficiency(scalar):.2f}x scalar_rgb's"
+            print(line)
 PY
