@@ -14,6 +14,12 @@
 # 32 triangles merged into one OBJ, 2048² camera rays and as many random
 # ones): a tree that fits the L1 cache, as in the path-tracing benchmark,
 # where memory no longer hides the traversal's own cost.
+#
+# EMBREE_SINGLE=1 also times Embree 4 one ray at a time on one thread
+# (rtcIntersect1 through embreex, the anchors' other backend) and
+# penumbra's `bench --threads 1` on the same rays: single ray against
+# single ray, where the default compares with Mitsuba's 16-wide packets on
+# all cores.
 # Results: $OUT (default /tmp/bench-vs-embree): results.jsonl (Embree) and penumbra.txt.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -66,3 +72,16 @@ for bin in "$@"; do
 done
 # This run's four measures (results.jsonl keeps every run's).
 grep -h '"trace_\|"bvh_build' "$OUT/results.jsonl" | tail -n 4 | cut -c1-200
+if [ "${EMBREE_SINGLE:-0}" = 1 ]; then
+  "$PY" "$ANCHORS/bench_embree.py" --backend embreex --runs 3 --scene "$OUT/scene.json" > /dev/null
+  for bin in "$@"; do
+    for set in coherent incoherent; do
+      for run in 1 2 3; do
+        line=$("$bin" bench --threads 1 --mesh "$OUT/mesh.obj" --rays "$OUT/rays/$set.rays" --spp 0 2>&1 | grep -E '^file' | tr -s ' ' | tr '\n' ' ')
+        echo "$bin $set one thread, run $run: $line" | tee -a "$OUT/penumbra.txt"
+      done
+    done
+  done
+  echo "Embree 4, rtcIntersect1, one thread:"
+  grep -h '"trace_\|"bvh_build' "$OUT/results.jsonl" | tail -n 4 | cut -c1-200
+fi
