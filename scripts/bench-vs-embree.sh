@@ -62,26 +62,25 @@ fi
 "$PY" "$ANCHORS/bench_embree.py" --scene "$OUT/scene.json" --export-rays "$OUT/rays"
 "$PY" "$ANCHORS/bench_embree.py" --backend mitsuba --runs 5 --scene "$OUT/scene.json"
 : > "$OUT/penumbra.txt"
-for bin in "$@"; do
-  for set in coherent incoherent; do
-    for run in 1 2 3; do
-      line=$("$bin" bench --mesh "$OUT/mesh.obj" --rays "$OUT/rays/$set.rays" --spp 0 2>&1 | grep -E '^(build|file)' | tr -s ' ' | tr '\n' ' ')
-      echo "$bin $set run $run: $line" | tee -a "$OUT/penumbra.txt"
+binaries=("$@")
+trace_sets() { # LABEL BENCH-OPTION...: three runs of each set with each binary
+  local label=$1
+  shift
+  for bin in "${binaries[@]}"; do
+    for set in coherent incoherent; do
+      for run in 1 2 3; do
+        line=$("$bin" bench "$@" --mesh "$OUT/mesh.obj" --rays "$OUT/rays/$set.rays" --spp 0 2>&1 | grep -E '^(build|file)' | tr -s ' ' | tr '\n' ' ')
+        echo "$bin $set${label} run $run: $line" | tee -a "$OUT/penumbra.txt"
+      done
     done
   done
-done
+}
+trace_sets ""
 # This run's four measures (results.jsonl keeps every run's).
 grep -h '"trace_\|"bvh_build' "$OUT/results.jsonl" | tail -n 4 | cut -c1-200
 if [ "${EMBREE_SINGLE:-0}" = 1 ]; then
   "$PY" "$ANCHORS/bench_embree.py" --backend embreex --runs 3 --scene "$OUT/scene.json" > /dev/null
-  for bin in "$@"; do
-    for set in coherent incoherent; do
-      for run in 1 2 3; do
-        line=$("$bin" bench --threads 1 --mesh "$OUT/mesh.obj" --rays "$OUT/rays/$set.rays" --spp 0 2>&1 | grep -E '^file' | tr -s ' ' | tr '\n' ' ')
-        echo "$bin $set one thread, run $run: $line" | tee -a "$OUT/penumbra.txt"
-      done
-    done
-  done
+  trace_sets " one thread," --threads 1
   echo "Embree 4, rtcIntersect1, one thread:"
   grep -h '"trace_\|"bvh_build' "$OUT/results.jsonl" | tail -n 4 | cut -c1-200
 fi
