@@ -1,8 +1,8 @@
 //! Every traversal kernel the CPU runs finds the same closest hit as a
 //! brute-force loop over all triangles, with and without prefetching, one
 //! ray at a time, with walks interleaved and in packets, on the benchmark
-//! mesh, for coherent (camera) and incoherent (random directions from
-//! surface points) rays.
+//! mesh, for coherent (camera) rays, of one octant or several, and
+//! incoherent (random directions from surface points) rays.
 
 use glam::Vec3;
 use penumbra_shading::sampling::{Sampler, square_to_uniform_sphere};
@@ -40,6 +40,13 @@ fn kernels_match_brute_force_on_the_bench_mesh() {
             Ray::new(o, (Vec3::new(x * 2.6, y * 2.6, 0.0) - o).normalize())
         })
         .collect();
+    // Coherent in one octant (packets take the frustum walk): a fan from
+    // a corner, every direction with the signs (+, +, −).
+    rays.extend((0..400).map(|i| {
+        let (x, y) = ((i % 20) as f32 / 19.0 - 0.5, (i / 20) as f32 / 19.0 - 0.5);
+        let o = Vec3::new(-3.0, -2.5, 4.0);
+        Ray::new(o, (Vec3::new(x * 2.6, y * 2.6, 0.0) - o).normalize())
+    }));
     // Incoherent: from points on triangles, uniform directions.
     for i in 0..400u32 {
         let mut s = Sampler::new(i, 0, 0, 5);
@@ -52,10 +59,10 @@ fn kernels_match_brute_force_on_the_bench_mesh() {
         rays.push(Ray::new(offset_ray_origin(p, side), d));
     }
     let expected: Vec<_> = rays.iter().map(|r| brute_force(&tris, r)).collect();
-    let coherent_hits = expected[..400].iter().filter(|e| e.is_some()).count();
-    let incoherent_hits = expected[400..].iter().filter(|e| e.is_some()).count();
+    let coherent_hits = expected[..800].iter().filter(|e| e.is_some()).count();
+    let incoherent_hits = expected[800..].iter().filter(|e| e.is_some()).count();
     assert!(
-        coherent_hits > 100 && coherent_hits < 400,
+        coherent_hits > 200 && coherent_hits < 800,
         "{coherent_hits}"
     );
     assert!(
@@ -80,7 +87,8 @@ fn kernels_match_brute_force_on_the_bench_mesh() {
                 );
             }
             // The same rays with their walks interleaved, and in packets
-            // (coherent ones first, then packets of incoherent rays).
+            // (coherent ones first: packets of mixed octants, then of one,
+            // which take the frustum walk; then packets of incoherent rays).
             type Batch = fn(&Accel, &[Ray], &mut [Option<Hit>]);
             let batches: [(&str, Batch); 2] = [
                 ("interleaved", Accel::intersect_many),

@@ -6,6 +6,7 @@
 //! watertight triangle test.
 
 mod block;
+mod frustum;
 mod packet;
 mod traverse;
 mod watertight;

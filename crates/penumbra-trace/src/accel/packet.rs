@@ -1,33 +1,48 @@
-//! Packet traversal: up to [`PACKET`] rays walk the 8-wide BVH together.
-//! At each node every child box is tested against all the packet's rays
-//! at once (one lane per ray), so the node is loaded, sorted and pushed
-//! once for the packet instead of once per ray. The rays that enter a
-//! child go on into it together; a leaf's triangles are tested ray by ray
-//! with the single-ray leaf test. Fast where the rays are coherent (the
-//! camera rays of neighbouring pixels), wasteful where they diverge.
+//! Packet traversal: up to [`PACKET`] rays walk the 8-wide BVH together,
+//! in one of two ways.
+//!
+//! - **Frustum walk** (`frustum.rs`), for packets whose rays all point
+//!   into one octant (camera rays of neighbouring pixels): one interval
+//!   test of a node's eight boxes stands for every ray; each ray's own
+//!   box test is made only for the leaves a node enters.
+//! - **Per-lane walk** (here), for the others: at each node every child
+//!   box is tested against all the packet's rays at once (one lane per
+//!   ray), so the node is loaded, sorted and pushed once for the packet
+//!   instead of once per ray; the rays that enter a child go on into it
+//!   together.
+//!
+//! In both, a leaf's triangles are tested ray by ray with the single-ray
+//! leaf test, and a subtree that at most [`SWITCH`] of the rays enter is
+//! finished by each of them alone, their single-ray walks interleaved
+//! (Embree's hybrid packets switch to single rays in the same way), so
+//! packets of diverging rays cost little more than the rays alone.
 //!
 //! Each lane makes the single-ray box test's IEEE operations in the same
 //! order (the near and far planes chosen per lane from the signs of its
-//! direction), and each ray is culled against its own closest hit, so each
-//! ray gets the hit it gets alone; only the order of visits differs, which
-//! can change which of two triangles at exactly the same distance is
-//! reported.
+//! direction), the frustum test enters every box that any of its rays
+//! enters, and each ray is culled against its own closest hit, so each ray
+//! gets the hit it gets alone; only the order of visits differs, which can
+//! change which of two triangles at exactly the same distance is reported.
 //!
 //! `unsafe` for the AVX2 and AVX-512 box tests and to call their entry
 //! points after the CPU check.
 #![allow(unsafe_code)]
 
-use super::traverse::{Kernel, Query, STACK_INLINE, leaf_step, prefetch, stack_entries};
+use super::frustum::{Frustum, FrustumEntry, closest_frustum};
+use super::traverse::{
+    Entry, Kernel, Query, STACK_INLINE, Walk, leaf_step, prefetch, stack_entries,
+};
 use super::watertight::TriangleHit;
 use super::wide::{LEAF_BIT, Node8, WIDTH};
+use std::mem::MaybeUninit;
 
 /// Rays per packet.
 pub(super) const PACKET: usize = 16;
 
 /// Which compiled box test a packet runs (`SIMD` below).
-const PORTABLE: u8 = 0;
-const AVX2: u8 = 1;
-const AVX512: u8 = 2;
+pub(super) const PORTABLE: u8 = 0;
+pub(super) const AVX2: u8 = 1;
+pub(super) const AVX512: u8 = 2;
 
 /// A deferred subtree: its slot code, the packet's rays that entered its
 /// box, and each ray's entry distance.
@@ -44,14 +59,14 @@ struct PacketEntry {
 /// which AVX2's blends read directly: never −0 for a finite direction,
 /// see `BoxRay::new`).
 #[repr(C, align(64))]
-struct PacketBoxes {
-    origin: [[f32; PACKET]; 3],
-    inv: [[f32; PACKET]; 3],
-    negative: [u32; 3],
+pub(super) struct PacketBoxes {
+    pub origin: [[f32; PACKET]; 3],
+    pub inv: [[f32; PACKET]; 3],
+    pub negative: [u32; 3],
 }
 
 impl PacketBoxes {
-    fn new(queries: &[Query; PACKET]) -> Self {
+    pub fn new(queries: &[Query; PACKET]) -> Self {
         let mut p = PacketBoxes {
             origin: [[0.0; PACKET]; 3],
             inv: [[1.0; PACKET]; 3],
@@ -72,7 +87,7 @@ impl PacketBoxes {
     /// below by 0), and the mask of the lanes that enter it before their
     /// `tmax`: per lane, the operations of the single-ray slab test.
     #[inline(always)]
-    fn slab<const SIMD: u8>(
+    pub fn slab<const SIMD: u8>(
         &self,
         node: &Node8,
         slot: usize,
@@ -234,37 +249,114 @@ impl PacketBoxes {
     }
 }
 
+/// Walks the subtree `code` ray by ray for each lane of `lanes`, from the
+/// lane's closest hit so far, the rays' walks interleaved one node or
+/// leaf at a time (as `closest_many`'s) so that their cache misses
+/// overlap. `stacks` holds [`SWITCH`] single-ray stacks end to end, one
+/// for each lane of `lanes` (at most [`SWITCH`] lanes).
+#[inline(always)]
+pub(super) fn finish_alone<const SIMD: u8>(
+    queries: &[Query; PACKET],
+    lanes: u32,
+    code: u32,
+    best_t: &mut [f32; PACKET],
+    best: &mut [Option<(usize, TriangleHit)>; PACKET],
+    stacks: &mut [MaybeUninit<Entry>],
+) {
+    let stride = stacks.len() / SWITCH;
+    let keep = |_, _, _| true;
+    let mut walks: [(usize, Walk); SWITCH] =
+        std::array::from_fn(|_| (0, Walk::subtree(code, 0.0, None)));
+    let mut n = 0;
+    let mut m = lanes;
+    while m != 0 {
+        let l = m.trailing_zeros() as usize;
+        m &= m - 1;
+        walks[n] = (l, Walk::subtree(code, best_t[l], best[l]));
+        n += 1;
+    }
+    let mut running = (1u32 << n) - 1;
+    while running != 0 {
+        let mut m = running;
+        while m != 0 {
+            let k = m.trailing_zeros() as usize;
+            m &= m - 1;
+            let (l, walk) = &mut walks[k];
+            let stack = &mut stacks[k * stride..(k + 1) * stride];
+            let more = if SIMD == PORTABLE {
+                walk.step::<false>(&queries[*l], &keep, stack)
+            } else {
+                walk.step::<true>(&queries[*l], &keep, stack)
+            };
+            if !more {
+                running &= !(1 << k);
+                best_t[*l] = walk.best_t;
+                best[*l] = walk.best;
+            }
+        }
+    }
+}
+
+/// Tests leaf `code`'s triangles for each lane of `lanes`, ray by ray
+/// with the single-ray leaf test, against the lane's closest hit so far.
+#[inline(always)]
+pub(super) fn leaf_step_lanes<const SIMD: u8>(
+    queries: &[Query; PACKET],
+    lanes: u32,
+    code: u32,
+    best_t: &mut [f32; PACKET],
+    best: &mut [Option<(usize, TriangleHit)>; PACKET],
+) {
+    let keep = |_, _, _| true;
+    let mut m = lanes;
+    while m != 0 {
+        let l = m.trailing_zeros() as usize;
+        m &= m - 1;
+        let (q, t, b) = (&queries[l], &mut best_t[l], &mut best[l]);
+        if SIMD == PORTABLE {
+            leaf_step::<false>(q, code, &keep, t, b);
+        } else {
+            leaf_step::<true>(q, code, &keep, t, b);
+        }
+    }
+}
+
+/// A subtree that at most this many of a packet's rays enter is walked by
+/// each of them alone ([`finish_alone`]), as Embree's hybrid packets do:
+/// below a few rays, testing a node for the whole packet costs more than
+/// the rays' own walks. Six was the best of 0, 2, 4, 6 and 8 on the
+/// 1M-triangle mesh's random rays (packets 0.41, 0.52, 0.60–0.64,
+/// 0.64–0.66 and 0.53–0.61 Mrays/s on one thread, 2026-12-06), and no
+/// worse than 2 or 4 on its camera rays.
+pub(super) const SWITCH: usize = 6;
+
 /// Closest hits of the rays of `queries` in the lanes of `live`, each the
-/// leaf-order triangle index and the hit; `stack` must hold
-/// `(WIDTH − 1) · depth + 1` entries.
+/// leaf-order triangle index and the hit (the one the single-ray walk
+/// finds): the packet walks the tree together, testing each entered
+/// node's slots for all its lanes, until at most [`SWITCH`] lanes enter a
+/// subtree, which they finish alone. `stack` must hold
+/// `(WIDTH − 1) · depth + 1` entries, `singles` [`SWITCH`] times as many
+/// (the stacks of [`finish_alone`]).
 #[inline(always)]
 fn closest_packet<const SIMD: u8>(
     queries: &[Query; PACKET],
+    boxes: &PacketBoxes,
     live: u32,
     stack: &mut [PacketEntry],
+    singles: &mut [MaybeUninit<Entry>],
 ) -> [Option<(usize, TriangleHit)>; PACKET] {
-    let keep = |_, _, _| true;
     let mut best = [None; PACKET];
     let best_t_of = |l: usize| queries[l].tmax();
     let mut best_t: [f32; PACKET] = std::array::from_fn(best_t_of);
-    let boxes = PacketBoxes::new(queries);
     let q0 = &queries[0];
     let mut sp = 0;
     let mut code = 0u32;
     let mut active = live;
     loop {
         if code & LEAF_BIT != 0 {
-            let mut m = active;
-            while m != 0 {
-                let l = m.trailing_zeros() as usize;
-                m &= m - 1;
-                let (q, t, b) = (&queries[l], &mut best_t[l], &mut best[l]);
-                if SIMD == PORTABLE {
-                    leaf_step::<false>(q, code, &keep, t, b);
-                } else {
-                    leaf_step::<true>(q, code, &keep, t, b);
-                }
-            }
+            leaf_step_lanes::<SIMD>(queries, active, code, &mut best_t, &mut best);
+        } else if active.count_ones() as usize <= SWITCH {
+            finish_alone::<SIMD>(queries, active, code, &mut best_t, &mut best, singles);
         } else {
             let node = &q0.wide.nodes[code as usize];
             // Entered children, sorted by decreasing nearest entry.
@@ -363,12 +455,28 @@ fn closest_packets<'a, const SIMD: u8>(
         heap.resize(need, empty);
         &mut heap
     };
+    let mut singles = vec![MaybeUninit::<Entry>::uninit(); SWITCH * need];
+    let empty = FrustumEntry {
+        code: 0,
+        mask: 0,
+        t: 0.0,
+    };
+    let mut frustum_stack = vec![empty; need];
     for first in (0..count).step_by(PACKET) {
         let n = PACKET.min(count - first);
         // A last, partial packet repeats its last ray in the unused lanes,
         // which are never active.
         let queries: [Query<'a>; PACKET] = std::array::from_fn(|l| query(first + l.min(n - 1)));
-        let hits = closest_packet::<SIMD>(&queries, (1 << n) - 1, stack);
+        let live = (1 << n) - 1;
+        let boxes = PacketBoxes::new(&queries);
+        // Packets of one octant take the frustum walk, others the per-lane one.
+        let hits = match Frustum::new(&boxes) {
+            Some(f) => {
+                let stack = &mut frustum_stack;
+                closest_frustum::<SIMD>(&queries, &boxes, &f, live, stack, &mut singles)
+            }
+            None => closest_packet::<SIMD>(&queries, &boxes, live, stack, &mut singles),
+        };
         for (l, hit) in hits.into_iter().take(n).enumerate() {
             found(first + l, hit);
         }

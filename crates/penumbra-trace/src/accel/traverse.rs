@@ -176,7 +176,7 @@ impl<'a> Query<'a> {
 /// A deferred subtree: its slot code and the distance at which the ray
 /// enters its box.
 #[derive(Clone, Copy)]
-struct Entry {
+pub(super) struct Entry {
     code: u32,
     t: f32,
 }
@@ -413,11 +413,11 @@ pub(super) fn leaf_step<const AVX2: bool>(
 /// the depth of its stack, and the closest accepted hit so far. One
 /// [`Walk::step`] visits one node or leaf, so several rays' walks can be
 /// interleaved ([`closest_many`]).
-struct Walk {
+pub(super) struct Walk {
     code: u32,
     sp: usize,
-    best: Option<(usize, TriangleHit)>,
-    best_t: f32,
+    pub best: Option<(usize, TriangleHit)>,
+    pub best_t: f32,
 }
 
 impl Walk {
@@ -432,12 +432,24 @@ impl Walk {
         }
     }
 
+    /// A walk of the subtree `code` only, for a ray whose closest hit so
+    /// far is `best` at `best_t` (a packet's ray going on alone).
+    #[inline(always)]
+    pub fn subtree(code: u32, best_t: f32, best: Option<(usize, TriangleHit)>) -> Self {
+        Walk {
+            code,
+            sp: 0,
+            best,
+            best_t,
+        }
+    }
+
     /// Visits the node or leaf `self.code` and moves to the next one to
     /// visit: the nearest child entered, or the nearest deferred subtree
     /// not beyond the closest hit so far. False when none is left: `best`
     /// is then the closest accepted hit in (0, tmax).
     #[inline(always)]
-    fn step<const AVX2: bool>(
+    pub fn step<const AVX2: bool>(
         &mut self,
         q: &Query,
         keep: &impl Fn(usize, f32, f32) -> bool,
