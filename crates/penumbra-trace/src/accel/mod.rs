@@ -224,8 +224,9 @@ impl Accel {
     /// `hits[i]` is `rays[i]`'s closest hit, as [`Accel::intersect`] finds
     /// it (of two triangles at exactly the same distance, either may be
     /// reported). Fast where consecutive rays are coherent, such as the
-    /// camera rays of neighbouring pixels; slower than one at a time where
-    /// they are not.
+    /// camera rays of neighbouring pixels (a packet of one octant takes the
+    /// frustum walk); where they are not, the rays soon go on alone, and
+    /// packets cost about 1.3× what [`Accel::intersect_many`] does.
     ///
     /// # Panics
     /// If `hits` and `rays` differ in length.
