@@ -325,9 +325,10 @@ pub(super) fn leaf_step_lanes<const SIMD: u8>(
 /// each of them alone ([`finish_alone`]), as Embree's hybrid packets do:
 /// below a few rays, testing a node for the whole packet costs more than
 /// the rays' own walks. Six was the best of 0, 2, 4, 6 and 8 on the
-/// 1M-triangle mesh's random rays (packets 0.41, 0.52, 0.60–0.64,
-/// 0.64–0.66 and 0.53–0.61 Mrays/s on one thread, 2026-12-06), and no
-/// worse than 2 or 4 on its camera rays.
+/// 1M-triangle mesh's random rays, one thread, 2026-12-06 (two rounds:
+/// packets 0.41, 0.51–0.52, 0.59–0.64, 0.64–0.66 and 0.53–0.61 Mrays/s;
+/// three more of 4 and 6: 0.57–0.69 and 0.72–0.76), and within the noise
+/// of 2 and 4 on its camera rays.
 pub(super) const SWITCH: usize = 6;
 
 /// Closest hits of the rays of `queries` in the lanes of `live`, each the
