@@ -7,6 +7,7 @@
 
 mod block;
 mod frustum;
+mod huge_pages;
 mod packet;
 mod traverse;
 mod watertight;
@@ -139,6 +140,9 @@ impl Accel {
             }
             start
         });
+        wide.nodes = huge_pages::on_huge_pages(wide.nodes);
+        let blocks = huge_pages::on_huge_pages(blocks);
+        let primitive_indices = huge_pages::on_huge_pages(primitive_indices);
         let bytes = wide.nodes.len() * size_of::<wide::Node8>() + size_of_val(&blocks[..]);
         Self {
             wide,

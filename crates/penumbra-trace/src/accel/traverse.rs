@@ -17,11 +17,12 @@
 //! The traversal is a [`Walk`] advanced one node or leaf at a time, so that
 //! [`closest_many`] can interleave several rays' walks on one thread.
 //!
-//! One of the crate's three modules with `unsafe` code (the others are
-//! `block.rs`, for its AVX intrinsics, and `packet.rs`, for its AVX2 and
-//! AVX-512 box tests): calling the AVX2 functions (after the CPU check)
-//! and the uninitialised traversal stack (zeroing 2 KB per ray would cost
-//! more than a node test).
+//! One of the crate's five modules with `unsafe` code (the others are
+//! `block.rs`, for its AVX intrinsics, `packet.rs` and `frustum.rs`, for
+//! their AVX2 and AVX-512 box tests, and `huge_pages.rs`, for `madvise`):
+//! calling the AVX2 functions (after the CPU check) and the uninitialised
+//! traversal stack (zeroing 2 KB per ray would cost more than a node
+//! test).
 #![allow(unsafe_code)]
 
 use super::block::{LANES, TriangleBlock};
