@@ -478,6 +478,31 @@ mod tests {
         ))));
     }
 
+    /// The farthest closest-hit distance among the masked lanes only
+    /// (unmasked lanes hold larger ones, +∞ included), 0 for no lane.
+    #[test]
+    fn farthest_takes_only_the_masked_lanes() {
+        let mut n = Numbers(11);
+        for _ in 0..200 {
+            let lanes = (n.next() * 65536.0) as u32;
+            let best_t: [f32; PACKET] = std::array::from_fn(|l| {
+                if lanes >> l & 1 != 0 {
+                    n.next() * 10.0
+                } else if l % 2 == 0 {
+                    f32::INFINITY
+                } else {
+                    20.0 + n.next()
+                }
+            });
+            let expected = (0..PACKET)
+                .filter(|&l| lanes >> l & 1 != 0)
+                .map(|l| best_t[l])
+                .fold(0.0, f32::max);
+            assert_eq!(farthest(&best_t, lanes), expected, "lanes {lanes:#x}");
+        }
+        assert_eq!(farthest(&[f32::INFINITY; PACKET], 0), 0.0);
+    }
+
     /// The lanes whose closest hit so far reaches a distance, with each
     /// kernel, ties included, against the plain comparison.
     #[test]
