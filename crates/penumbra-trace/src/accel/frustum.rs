@@ -371,6 +371,66 @@ mod tests {
         })
     }
 
+    /// Eight random boxes around the origin, the fourth flat.
+    fn random_node(n: &mut Numbers) -> Node8 {
+        let boxes: Vec<([f32; 3], [f32; 3])> = (0..WIDTH)
+            .map(|i| {
+                let c = n.vec(-4.0, 4.0);
+                let mut h = n.vec(0.0, 2.0);
+                if i == 3 {
+                    h.z = 0.0;
+                }
+                ((c - h).to_array(), (c + h).to_array())
+            })
+            .collect();
+        Node8::with_boxes(&boxes)
+    }
+
+    /// Sixteen copies of one ray make a frustum that is the ray itself:
+    /// its test gives the single-ray test's mask and entry distances to
+    /// the bit (so a frustum that enters every box, or one built from the
+    /// wrong values, is caught here, which the conservative test above
+    /// cannot see).
+    #[test]
+    fn a_packet_of_one_ray_is_the_ray() {
+        let wide = Wide::default();
+        let mut n = Numbers(5);
+        let mut entered = 0;
+        for round in 0..300 {
+            let node = random_node(&mut n);
+            let o = n.vec(-9.0, 9.0);
+            // Aimed at one of the boxes, so that most rays enter some.
+            let (lo, hi) = node.slot_box(round % 7);
+            let mut d = (Vec3::from(lo) + Vec3::from(hi)) / 2.0 - o + n.vec(-0.5, 0.5);
+            if round % 10 == 0 {
+                d.y = if round % 20 == 0 { 0.0 } else { -0.0 };
+            }
+            let tmax = if round % 3 == 0 { 6.0 } else { f32::INFINITY };
+            let queries: [Query; PACKET] =
+                std::array::from_fn(|_| Query::new(&wide, &[], o, d.normalize(), tmax, false));
+            let f = Frustum::new(&PacketBoxes::new(&queries)).expect("one ray, one octant");
+            let mut alone = [f32::NAN; WIDTH];
+            let expected = queries[0].slab_alone(&node, &mut alone);
+            let mut kernels = vec![PORTABLE];
+            if Kernel::Avx2.is_supported() {
+                kernels.push(AVX2);
+            }
+            for simd in kernels {
+                let mut t = [f32::NAN; WIDTH];
+                let mask = match simd {
+                    PORTABLE => f.slab::<PORTABLE>(&node, tmax, &mut t),
+                    _ => f.slab::<AVX2>(&node, tmax, &mut t),
+                };
+                assert_eq!(mask, expected, "round {round} kernel {simd}");
+                for slot in (0..WIDTH).filter(|s| expected >> s & 1 != 0) {
+                    assert_eq!(t[slot].to_bits(), alone[slot].to_bits(), "round {round}");
+                }
+            }
+            entered += expected.count_ones();
+        }
+        assert!(entered > 300, "{entered}");
+    }
+
     /// Packets of every octant, narrow and wide, from outside and among
     /// the boxes, against nodes of random boxes (some flat): every slot
     /// that a lane's own box test enters within its `tmax` is entered by
@@ -382,17 +442,7 @@ mod tests {
         let mut n = Numbers(7);
         let (mut entered, mut loose) = (0, 0);
         for round in 0..600 {
-            let boxes: Vec<([f32; 3], [f32; 3])> = (0..WIDTH)
-                .map(|i| {
-                    let c = n.vec(-4.0, 4.0);
-                    let mut h = n.vec(0.0, 2.0);
-                    if i == 3 {
-                        h.z = 0.0;
-                    }
-                    ((c - h).to_array(), (c + h).to_array())
-                })
-                .collect();
-            let node = Node8::with_boxes(&boxes);
+            let node = random_node(&mut n);
             let signs = Vec3::select(
                 glam::BVec3::new(round & 1 != 0, round & 2 != 0, round & 4 != 0),
                 Vec3::NEG_ONE,
