@@ -238,9 +238,8 @@ pub(super) struct FrustumEntry {
 
 /// Closest hits of the lanes of `live` by a frustum walk (`frustum` of
 /// those lanes). Inner nodes are entered by the frustum test; a leaf by
-/// the lanes whose own box test enters it. Lanes fewer than `switch` in a
+/// the lanes whose own box test enters it. At most [`SWITCH`] lanes in a
 /// subtree finish it alone ([`finish_alone`]).
-#[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub(super) fn closest_frustum<const SIMD: u8>(
     queries: &[Query; PACKET],
