@@ -22,7 +22,7 @@
 use super::packet::{
     AVX2, AVX512, PACKET, PORTABLE, PacketBoxes, SWITCH, finish_alone, leaf_step_lanes,
 };
-use super::traverse::{Entry, Query, prefetch};
+use super::traverse::{Entry, Query, insert_by_decreasing_t, prefetch};
 use super::watertight::TriangleHit;
 use super::wide::{LEAF_BIT, Node8, WIDTH};
 use std::mem::MaybeUninit;
@@ -293,12 +293,7 @@ pub(super) fn closest_frustum<const SIMD: u8>(
                     mask,
                     t: t[slot],
                 };
-                let mut j = n;
-                while j > 0 && hits[j - 1].t < e.t {
-                    hits[j] = hits[j - 1];
-                    j -= 1;
-                }
-                hits[j] = e;
+                insert_by_decreasing_t(&mut hits, n, e, |e| e.t);
                 n += 1;
             }
             if n > 0 {

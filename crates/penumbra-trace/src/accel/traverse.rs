@@ -193,6 +193,25 @@ pub(super) fn stack_entries(depth: usize) -> usize {
     (WIDTH - 1) * depth + 1
 }
 
+/// Inserts `e` into `sorted[..n]` (n < [`WIDTH`]), which stays in
+/// decreasing order of `t`: the nearest entry last, to be visited first.
+/// Of equal distances the later inserted goes nearer the end.
+#[inline(always)]
+pub(super) fn insert_by_decreasing_t<E: Copy>(
+    sorted: &mut [E; WIDTH],
+    n: usize,
+    e: E,
+    t: impl Fn(&E) -> f32,
+) {
+    // `min` lets the compiler see every index is in bounds.
+    let mut j = n.min(WIDTH - 1);
+    while j > 0 && t(&sorted[j - 1]) < t(&e) {
+        sorted[j] = sorted[j - 1];
+        j -= 1;
+    }
+    sorted[j] = e;
+}
+
 /// Evaluates `$body` with `$stack` bound to an uninitialised traversal
 /// stack large enough for `$wide`: inline, or on the heap for very deep
 /// trees. A macro, not a closure: closures do not inherit the caller's
@@ -283,18 +302,19 @@ pub(super) fn prefetch(q: &Query, code: u32) {
     #[cfg(target_arch = "x86_64")]
     {
         use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
-        let (start, bytes) = if code & LEAF_BIT != 0 {
-            let (block, count) = leaf_parts(code);
-            (
-                q.blocks[block..].as_ptr().cast::<i8>(),
-                size_of::<TriangleBlock>() * count.div_ceil(LANES),
-            )
-        } else {
-            (
-                q.wide.nodes[code as usize..].as_ptr().cast::<i8>(),
-                size_of::<Node8>(),
-            )
-        };
+        if code & LEAF_BIT == 0 {
+            let start = q.wide.nodes[code as usize..].as_ptr().cast::<i8>();
+            let line = start.wrapping_sub(start as usize % 64);
+            for k in 0..NODE_LINES {
+                // SAFETY: a prefetch never faults; these are the lines
+                // that hold the node's bytes.
+                unsafe { _mm_prefetch::<_MM_HINT_T0>(line.wrapping_add(64 * k)) };
+            }
+            return;
+        }
+        let (block, count) = leaf_parts(code);
+        let start = q.blocks[block..].as_ptr().cast::<i8>();
+        let bytes = size_of::<TriangleBlock>() * count.div_ceil(LANES);
         // Every 64-byte line that holds a byte of [start, start + bytes):
         // from the line of the first byte on (a block is 144 bytes, so one
         // can start anywhere in a line).
@@ -302,12 +322,16 @@ pub(super) fn prefetch(q: &Query, code: u32) {
         let end = start.wrapping_add(bytes);
         while line < end {
             // SAFETY: a prefetch never faults; the addresses lie in the
-            // lines of `q.blocks` or `q.wide.nodes` (checked by the slicing).
+            // lines of `q.blocks` (checked by the slicing).
             unsafe { _mm_prefetch::<_MM_HINT_T0>(line) };
             line = line.wrapping_add(64);
         }
     }
 }
+
+/// The 64-byte lines a node can span: it starts at most
+/// `64 − align_of::<Node8>()` bytes into its first line.
+const NODE_LINES: usize = (64 - align_of::<Node8>() + size_of::<Node8>()).div_ceil(64);
 
 #[inline(always)]
 fn slab<const AVX2: bool>(node: &Node8, r: &BoxRay, tmax: f32, t: &mut [f32; WIDTH]) -> u32 {
@@ -463,8 +487,35 @@ impl Walk {
             let mut t = [0.0; WIDTH];
             let mask = slab::<AVX2>(node, &q.boxes, self.best_t, &mut t);
             if mask != 0 {
-                if mask & (mask - 1) == 0 {
-                    self.code = node.child[mask.trailing_zeros() as usize];
+                let first = mask.trailing_zeros() as usize;
+                let rest = mask & (mask - 1);
+                if rest == 0 {
+                    self.code = node.child[first];
+                    return true;
+                }
+                if q.prefetch {
+                    let mut m = mask;
+                    while m != 0 {
+                        prefetch(q, node.child[m.trailing_zeros() as usize]);
+                        m &= m - 1;
+                    }
+                }
+                if rest & (rest - 1) == 0 {
+                    // Two children (a third of the nodes a random ray
+                    // visits): the nearer now, the other deferred; of equal
+                    // entries the later slot goes first, as in the sort below.
+                    let second = rest.trailing_zeros() as usize;
+                    let (now, later) = if t[first] < t[second] {
+                        (first, second)
+                    } else {
+                        (second, first)
+                    };
+                    stack[self.sp] = MaybeUninit::new(Entry {
+                        code: node.child[later],
+                        t: t[later],
+                    });
+                    self.sp += 1;
+                    self.code = node.child[now];
                     return true;
                 }
                 // Hit slots sorted by decreasing entry distance.
@@ -474,19 +525,11 @@ impl Walk {
                 while m != 0 {
                     let i = m.trailing_zeros() as usize;
                     m &= m - 1;
-                    if q.prefetch {
-                        prefetch(q, node.child[i]);
-                    }
                     let e = Entry {
                         code: node.child[i],
                         t: t[i],
                     };
-                    let mut j = n;
-                    while j > 0 && hits[j - 1].t < e.t {
-                        hits[j] = hits[j - 1];
-                        j -= 1;
-                    }
-                    hits[j] = e;
+                    insert_by_decreasing_t(&mut hits, n, e, |e| e.t);
                     n += 1;
                 }
                 for &e in &hits[..n - 1] {
