@@ -30,7 +30,8 @@
 
 use super::frustum::{Frustum, FrustumEntry, closest_frustum};
 use super::traverse::{
-    Entry, Kernel, Query, STACK_INLINE, Walk, leaf_step, prefetch, stack_entries,
+    Entry, Kernel, Query, STACK_INLINE, Walk, insert_by_decreasing_t, leaf_step, prefetch,
+    stack_entries,
 };
 use super::watertight::TriangleHit;
 use super::wide::{LEAF_BIT, Node8, WIDTH};
@@ -360,13 +361,16 @@ fn closest_packet<const SIMD: u8>(
             finish_alone::<SIMD>(queries, active, code, &mut best_t, &mut best, singles);
         } else {
             let node = &q0.wide.nodes[code as usize];
-            // Entered children, sorted by decreasing nearest entry.
-            let mut hits = [PacketEntry {
-                code: 0,
-                mask: 0,
-                t: [0.0; PACKET],
-            }; WIDTH];
-            let mut keys = [0u32; WIDTH];
+            // Entered children, each with the nearest entry among the
+            // lanes that enter it, sorted by decreasing nearest entry.
+            let mut hits = [(
+                0.0,
+                PacketEntry {
+                    code: 0,
+                    mask: 0,
+                    t: [0.0; PACKET],
+                },
+            ); WIDTH];
             let mut n = 0;
             for slot in 0..WIDTH {
                 let mut t = [0.0; PACKET];
@@ -377,9 +381,9 @@ fn closest_packet<const SIMD: u8>(
                 if q0.prefetches() {
                     prefetch(q0, node.child[slot]);
                 }
-                // The nearest entry among the lanes that enter: entry
-                // distances are ≥ 0, whose bits order as the values do.
-                let key = (0..PACKET)
+                // Entry distances are ≥ 0, whose bits order as the values
+                // do: an integer min, which vectorises.
+                let nearest = (0..PACKET)
                     .map(|l| {
                         if mask >> l & 1 != 0 {
                             t[l].to_bits()
@@ -388,26 +392,22 @@ fn closest_packet<const SIMD: u8>(
                         }
                     })
                     .min()
-                    .unwrap_or(u32::MAX);
-                let mut j = n;
-                while j > 0 && keys[j - 1] < key {
-                    hits[j] = hits[j - 1];
-                    keys[j] = keys[j - 1];
-                    j -= 1;
-                }
-                hits[j] = PacketEntry {
+                    .map_or(f32::INFINITY, f32::from_bits);
+                let e = PacketEntry {
                     code: node.child[slot],
                     mask,
                     t,
                 };
-                keys[j] = key;
+                insert_by_decreasing_t(&mut hits, n, (nearest, e), |h| h.0);
                 n += 1;
             }
             if n > 0 {
-                stack[sp..sp + n - 1].copy_from_slice(&hits[..n - 1]);
+                for (k, h) in hits[..n - 1].iter().enumerate() {
+                    stack[sp + k] = h.1;
+                }
                 sp += n - 1;
-                code = hits[n - 1].code;
-                active = hits[n - 1].mask;
+                code = hits[n - 1].1.code;
+                active = hits[n - 1].1.mask;
                 continue;
             }
         }
