@@ -491,6 +491,11 @@ impl Walk {
                 let rest = mask & (mask - 1);
                 if rest == 0 {
                     self.code = node.child[first];
+                    if q.prefetch {
+                        // Interleaved walks reach it only after the other
+                        // walks' steps: time for the lines to arrive.
+                        prefetch(q, self.code);
+                    }
                     return true;
                 }
                 if q.prefetch {
@@ -742,6 +747,31 @@ pub(super) fn any_hit(kernel: Kernel, q: &Query, keep: &impl Fn(usize, f32, f32)
 mod tests {
     use super::*;
     use crate::accel::wide::TEST_BOXES;
+
+    /// The walks visit entered children nearest first, so the insertion
+    /// must keep decreasing entry distances, and of equal distances put
+    /// the later inserted nearer the end (visited first), as the two-child
+    /// shortcut of `Walk::step` assumes. A wrong order changes no hit, only
+    /// the work, so no traversal test can see it. Against the standard
+    /// library's stable sort by decreasing distance, on sequences with
+    /// many ties (distances drawn from 0, 0.5, 1, 1.5).
+    #[test]
+    fn insertion_keeps_decreasing_distances_later_ties_last() {
+        let mut rng = penumbra_shading::stats::TestRng::new(7);
+        for _ in 0..500 {
+            let n = 1 + (rng.next_u64() % WIDTH as u64) as usize;
+            let items: Vec<(f32, usize)> = (0..n)
+                .map(|id| ((rng.next_u64() % 4) as f32 * 0.5, id))
+                .collect();
+            let mut sorted = [(0.0, 0); WIDTH];
+            for (k, &item) in items.iter().enumerate() {
+                insert_by_decreasing_t(&mut sorted, k, item, |e| e.0);
+            }
+            let mut expected = items.clone();
+            expected.sort_by(|a, b| b.0.total_cmp(&a.0));
+            assert_eq!(sorted[..n], expected[..], "inserted {items:?}");
+        }
+    }
 
     /// The kernels offered are the CPU's: always the portable one, AVX2
     /// and AVX-512 exactly when the CPU reports them (tests that loop over the kernels
