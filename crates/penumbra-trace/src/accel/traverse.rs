@@ -5,9 +5,10 @@
 //! it continues into the nearest and pushes the others, sorted, with their
 //! entry distances, so that popped entries beyond the closest hit so far
 //! are dropped. Occlusion rays push without sorting and stop at the first
-//! hit. On trees larger than the caches, each node's entered children are
-//! prefetched as they are sorted or pushed, so that their cache misses overlap
-//! (memory-level parallelism) instead of coming one after another. A
+//! hit. On trees larger than the caches, each node's entered children (an
+//! only child too) are prefetched as soon as its box test finds them, so
+//! that their cache misses overlap (memory-level parallelism) instead of
+//! coming one after another. A
 //! leaf's triangles (up to eight, in one or two blocks) are tested at once
 //! by the 8-lane test of `block.rs` in the AVX2 kernel, which leaves the
 //! lanes it hits to be visited (most leaves have none or one), and one by
