@@ -5,7 +5,9 @@
 # after its path measure each stage's time-stamp-counter ticks per sample,
 # calls per sample, ticks per call and share of the sample (stages nest:
 # the traversal is inside the closest hit, the shadow ray inside next-event
-# estimation; crates/penumbra-trace/src/stages.rs). These machines have no
+# estimation; crates/penumbra-trace/src/stages.rs), then the nodes, leaves
+# and triangles the single-ray walk visits per closest-hit query (`bench
+# --rays FILE` with this build prints them per ray). These machines have no
 # performance counters; this prices latency and mispredictions, which
 # instruction counts (scripts/instructions-per-sample.sh) do not. The
 # instrumented build runs about 5 % slower than the normal one.

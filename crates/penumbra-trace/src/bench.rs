@@ -95,13 +95,18 @@ pub fn measure_closest_hit(
     let t = Instant::now();
     let hits: u64 = rays
         .par_chunks(4096)
-        .map(|chunk| match tracing {
-            Tracing::OneAtATime => chunk
-                .iter()
-                .filter(|r| accel.intersect(r).is_some())
-                .count() as u64,
-            Tracing::Interleaved => count_hits(chunk, |r, h| accel.intersect_many(r, h)),
-            Tracing::Packets => count_hits(chunk, |r, h| accel.intersect_packets(r, h)),
+        .map(|chunk| {
+            let hits = match tracing {
+                Tracing::OneAtATime => chunk
+                    .iter()
+                    .filter(|r| accel.intersect(r).is_some())
+                    .count() as u64,
+                Tracing::Interleaved => count_hits(chunk, |r, h| accel.intersect_many(r, h)),
+                Tracing::Packets => count_hits(chunk, |r, h| accel.intersect_packets(r, h)),
+            };
+            // The walk's visit counts, in a `stage-timing` build.
+            crate::stages::flush();
+            hits
         })
         .sum();
     Measure {

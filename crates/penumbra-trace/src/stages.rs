@@ -3,8 +3,10 @@
 //! around each stage of the render loop and the path tracer (the closest
 //! hit, its BVH traversal, shading, next-event estimation, its shadow ray,
 //! BSDF sampling) and counts the calls; `penumbra bench` prints the split
-//! after its path measure (`scripts/stage-times.sh`). Without the feature
-//! [`timed`] is the bare call and nothing is counted.
+//! after its path measure (`scripts/stage-times.sh`). It also counts what
+//! the single-ray closest-hit walk visits ([`visited`]: nodes, leaves and
+//! the leaves' triangles), which `bench` prints per query. Without the
+//! feature [`timed`] is the bare call and nothing is counted.
 //!
 //! It exists because these machines expose no performance counters, and
 //! instruction counts (`scripts/instructions-per-sample.sh`) do not price
@@ -119,10 +121,53 @@ pub fn take() -> Option<Vec<StageTime>> {
     }
 }
 
+/// What the single-ray closest-hit walk visits (`accel::traverse::Walk`;
+/// the packet walks' own node tests are not counted, their rays' single-ray
+/// parts are).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Visit {
+    /// An inner node: one 8-wide box test.
+    Node,
+    /// A leaf: one triangle test of its one or two blocks.
+    Leaf,
+    /// The triangles of the visited leaves.
+    Triangles,
+}
+
+/// Node visits, leaf visits and the leaves' triangles, summed.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Visits {
+    pub nodes: u64,
+    pub leaves: u64,
+    pub triangles: u64,
+}
+
+/// Counts `n` of `what` when [`ENABLED`].
+#[inline(always)]
+pub fn visited(what: Visit, n: u64) {
+    #[cfg(feature = "stage-timing")]
+    counter::visit(what, n);
+    #[cfg(not(feature = "stage-timing"))]
+    let _ = (what, n);
+}
+
+/// The visits since the last call (every thread's flushed counts); `None`
+/// when not [`ENABLED`].
+pub fn take_visits() -> Option<Visits> {
+    #[cfg(feature = "stage-timing")]
+    {
+        Some(counter::take_visits())
+    }
+    #[cfg(not(feature = "stage-timing"))]
+    {
+        None
+    }
+}
+
 #[cfg(feature = "stage-timing")]
 #[allow(unsafe_code)]
 mod counter {
-    use super::{Stage, StageTime};
+    use super::{Stage, StageTime, Visit, Visits};
     use std::cell::Cell;
     use std::sync::atomic::{AtomicU64, Ordering};
 
@@ -130,9 +175,38 @@ mod counter {
 
     thread_local! {
         static LOCAL: [Cell<(u64, u64)>; N] = const { [const { Cell::new((0, 0)) }; N] };
+        static LOCAL_VISITS: [Cell<u64>; 3] = const { [const { Cell::new(0) }; 3] };
     }
     static TICKS: [AtomicU64; N] = [const { AtomicU64::new(0) }; N];
     static CALLS: [AtomicU64; N] = [const { AtomicU64::new(0) }; N];
+    static VISITS: [AtomicU64; 3] = [const { AtomicU64::new(0) }; 3];
+
+    #[inline(always)]
+    pub fn visit(what: Visit, n: u64) {
+        LOCAL_VISITS.with(|l| {
+            let c = &l[what as usize];
+            c.set(c.get() + n);
+        });
+    }
+
+    /// This thread's visits not yet flushed.
+    #[cfg(test)]
+    pub fn local_visits() -> Visits {
+        LOCAL_VISITS.with(|l| Visits {
+            nodes: l[Visit::Node as usize].get(),
+            leaves: l[Visit::Leaf as usize].get(),
+            triangles: l[Visit::Triangles as usize].get(),
+        })
+    }
+
+    pub fn take_visits() -> Visits {
+        let take = |v: Visit| VISITS[v as usize].swap(0, Ordering::Relaxed);
+        Visits {
+            nodes: take(Visit::Node),
+            leaves: take(Visit::Leaf),
+            triangles: take(Visit::Triangles),
+        }
+    }
 
     #[inline(always)]
     pub fn now() -> u64 {
@@ -169,6 +243,11 @@ mod counter {
                 CALLS[i].fetch_add(n, Ordering::Relaxed);
             }
         });
+        LOCAL_VISITS.with(|l| {
+            for (i, c) in l.iter().enumerate() {
+                VISITS[i].fetch_add(c.replace(0), Ordering::Relaxed);
+            }
+        });
     }
 
     /// This thread's counts not yet flushed.
@@ -192,6 +271,34 @@ mod counter {
 #[cfg(all(test, feature = "stage-timing"))]
 mod tests {
     use super::*;
+
+    /// The walk counts what it visits, per thread: over one triangle (a
+    /// root node whose one slot is a one-triangle leaf), a ray that hits
+    /// visits the root and the leaf; a ray that passes beside it, the root
+    /// only; a flush moves the counts into the totals.
+    #[test]
+    fn stages_count_the_walks_visits() {
+        use crate::accel::{Accel, BuildQuality};
+        use crate::ray::Ray;
+        use glam::Vec3;
+        let accel = Accel::build(&[[Vec3::ZERO, Vec3::X, Vec3::Y]], BuildQuality::Medium);
+        flush();
+        let ray = |x: f32| Ray::new(Vec3::new(x, 0.25, 1.0), -Vec3::Z);
+        assert!(accel.intersect(&ray(0.25)).is_some());
+        let one = Visits {
+            nodes: 1,
+            leaves: 1,
+            triangles: 1,
+        };
+        assert_eq!(counter::local_visits(), one);
+        assert!(accel.intersect(&ray(5.0)).is_none());
+        assert_eq!(counter::local_visits(), Visits { nodes: 2, ..one });
+        take_visits();
+        flush();
+        assert_eq!(counter::local_visits(), Visits::default());
+        let totals = take_visits().expect("the feature is on");
+        assert!(totals.nodes >= 2 && totals.leaves >= 1, "{totals:?}");
+    }
 
     /// Calls are counted per stage and thread, a stage's time holds the
     /// stages nested in it, and a flush moves the thread's counts into the

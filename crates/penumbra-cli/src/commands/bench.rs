@@ -192,6 +192,27 @@ fn report_stages(stages: &[penumbra_trace::stages::StageTime], samples: u64, jso
     }
 }
 
+/// What the single-ray walk visited since the last call (a `stage-timing`
+/// build), per query of the measure just reported: `queries` rays, or the
+/// path measure's closest-hit queries. Packets are left out: only their
+/// rays' single-ray parts would be counted.
+fn report_visits(name: &str, queries: u64, json: bool) {
+    let Some(v) = penumbra_trace::stages::take_visits() else {
+        return;
+    };
+    let per = |x: u64| x as f64 / queries.max(1) as f64;
+    let (nodes, leaves, triangles) = (per(v.nodes), per(v.leaves), per(v.triangles));
+    if json {
+        println!(
+            "{{\"visits\":\"{name}\",\"nodes_per_query\":{nodes:.2},\"leaves_per_query\":{leaves:.2},\"triangles_per_query\":{triangles:.2}}}"
+        );
+    } else {
+        println!(
+            "visits {name:<24} {nodes:>6.2} nodes {leaves:>5.2} leaves {triangles:>6.2} triangles per query"
+        );
+    }
+}
+
 fn report(m: &Measure, json: bool, unit: &str) {
     if json {
         let key = if matches!(m.name, "build" | "load" | "bvh+mips") {
@@ -403,11 +424,15 @@ fn run_measures(args: &BenchArgs, scene: &Scene, load: Option<Measure>) -> Resul
             ("file-interleaved", Tracing::Interleaved),
             ("file-packets", Tracing::Packets),
         ] {
+            penumbra_trace::stages::take_visits();
             report(
                 &measure_closest_hit(accel, &rays, name, tracing),
                 args.json,
                 "Mrays/s",
             );
+            if !matches!(tracing, Tracing::Packets) {
+                report_visits(name, rays.len() as u64, args.json);
+            }
         }
         return Ok(());
     }
@@ -436,11 +461,15 @@ fn run_measures(args: &BenchArgs, scene: &Scene, load: Option<Measure>) -> Resul
         (&incoherent, "incoherent-interleaved", Tracing::Interleaved),
         (&incoherent, "incoherent-packets", Tracing::Packets),
     ] {
+        penumbra_trace::stages::take_visits();
         report(
             &measure_closest_hit(accel, rays, name, tracing),
             args.json,
             "Mrays/s",
         );
+        if !matches!(tracing, Tracing::Packets) {
+            report_visits(name, rays.len() as u64, args.json);
+        }
     }
     // The path measurement builds its own BVH: release the ray sets and
     // this one first so peak memory is that of one render.
@@ -462,10 +491,16 @@ fn run_measures(args: &BenchArgs, scene: &Scene, load: Option<Measure>) -> Resul
         };
         if scene.textures.is_empty() {
             penumbra_trace::stages::take();
+            penumbra_trace::stages::take_visits();
             let m = path("path", scene)?;
             report(&m, args.json, "Msamples/s");
             if let Some(stages) = penumbra_trace::stages::take() {
                 report_stages(&stages, m.count, args.json);
+                let closest = stages
+                    .iter()
+                    .find(|s| s.stage == penumbra_trace::stages::Stage::Traversal)
+                    .map_or(0, |s| s.calls);
+                report_visits("path closest-hit", closest, args.json);
             }
         } else {
             // The cost of texture lookups: the same render with every

@@ -29,6 +29,7 @@
 use super::block::{LANES, TriangleBlock};
 use super::watertight::{TriangleHit, WatertightRay};
 use super::wide::{LEAF_BIT, Node8, WIDTH, Wide, leaf_parts};
+use crate::stages::{Visit, visited};
 use glam::Vec3;
 use std::mem::MaybeUninit;
 
@@ -482,8 +483,11 @@ impl Walk {
         stack: &mut [MaybeUninit<Entry>],
     ) -> bool {
         if self.code & LEAF_BIT != 0 {
+            visited(Visit::Leaf, 1);
+            visited(Visit::Triangles, leaf_parts(self.code).1 as u64);
             leaf_step::<AVX2>(q, self.code, keep, &mut self.best_t, &mut self.best);
         } else {
+            visited(Visit::Node, 1);
             let node = &q.wide.nodes[self.code as usize];
             let mut t = [0.0; WIDTH];
             let mask = slab::<AVX2>(node, &q.boxes, self.best_t, &mut t);
