@@ -12,12 +12,13 @@ use glam::{Mat4, Vec3};
 use penumbra_scene::{Camera, IntegratorKind, Material, Projection, Scene, SceneLight};
 use penumbra_shading::Rgb;
 use penumbra_shading::light::{DirectionalLight, Light};
-use penumbra_trace::accel::{BuildQuality, Kernel};
+use penumbra_trace::accel::{Accel, BuildQuality, Kernel};
 use penumbra_trace::bench::{
     Measure, Tracing, bench_mesh, camera_rays, incoherent_rays, measure_closest_hit,
     parse_ray_file, write_obj, write_ray_file,
 };
 use penumbra_trace::geometry::SceneGeometry;
+use penumbra_trace::ray::Ray;
 use penumbra_trace::{RenderOptions, render, scene_camera};
 use std::path::PathBuf;
 
@@ -210,6 +211,26 @@ fn report_visits(name: &str, queries: u64, json: bool) {
         println!(
             "visits {name:<24} {nodes:>6.2} nodes {leaves:>5.2} leaves {triangles:>6.2} triangles per query"
         );
+    }
+}
+
+/// Measures and reports one closest-hit measure, with the walk's visits
+/// per ray in a `stage-timing` build (not for packets).
+fn closest_hit_measure(
+    accel: &Accel,
+    rays: &[Ray],
+    name: &'static str,
+    tracing: Tracing,
+    json: bool,
+) {
+    penumbra_trace::stages::take_visits();
+    report(
+        &measure_closest_hit(accel, rays, name, tracing),
+        json,
+        "Mrays/s",
+    );
+    if !matches!(tracing, Tracing::Packets) {
+        report_visits(name, rays.len() as u64, json);
     }
 }
 
@@ -424,15 +445,7 @@ fn run_measures(args: &BenchArgs, scene: &Scene, load: Option<Measure>) -> Resul
             ("file-interleaved", Tracing::Interleaved),
             ("file-packets", Tracing::Packets),
         ] {
-            penumbra_trace::stages::take_visits();
-            report(
-                &measure_closest_hit(accel, &rays, name, tracing),
-                args.json,
-                "Mrays/s",
-            );
-            if !matches!(tracing, Tracing::Packets) {
-                report_visits(name, rays.len() as u64, args.json);
-            }
+            closest_hit_measure(accel, &rays, name, tracing, args.json);
         }
         return Ok(());
     }
@@ -461,15 +474,7 @@ fn run_measures(args: &BenchArgs, scene: &Scene, load: Option<Measure>) -> Resul
         (&incoherent, "incoherent-interleaved", Tracing::Interleaved),
         (&incoherent, "incoherent-packets", Tracing::Packets),
     ] {
-        penumbra_trace::stages::take_visits();
-        report(
-            &measure_closest_hit(accel, rays, name, tracing),
-            args.json,
-            "Mrays/s",
-        );
-        if !matches!(tracing, Tracing::Packets) {
-            report_visits(name, rays.len() as u64, args.json);
-        }
+        closest_hit_measure(accel, rays, name, tracing, args.json);
     }
     // The path measurement builds its own BVH: release the ray sets and
     // this one first so peak memory is that of one render.
