@@ -20,17 +20,27 @@ const HUGE_ABOVE_BYTES: usize = 4 << 20;
 /// A huge page's size (x86-64 and AArch64 with 4 KB base pages).
 const HUGE_PAGE: usize = 2 << 20;
 
-/// `items`, copied into a new allocation whose whole 2 MB pages are marked
-/// for huge pages before the copy touches them (so that the copy's page
-/// faults get huge pages), when `items` is large enough to hold some;
-/// otherwise, or on other systems, `items` unchanged.
+/// An empty vector with room for `len` items whose whole 2 MB pages are
+/// marked for huge pages before anything touches them (so that the page
+/// faults of filling it get huge pages), when `len` items are large enough
+/// to hold some. Filling it past `len` moves it to ordinary memory.
+pub(super) fn with_capacity<T>(len: usize) -> Vec<T> {
+    let mut items: Vec<T> = Vec::with_capacity(len);
+    let bytes = len * size_of::<T>();
+    if bytes >= HUGE_ABOVE_BYTES {
+        advise_huge(items.as_mut_ptr().cast(), bytes);
+    }
+    items
+}
+
+/// `items`, copied into a [`with_capacity`] allocation when large enough;
+/// otherwise, or on other systems, `items` unchanged (for an array whose
+/// length is not known before it is filled).
 pub(super) fn on_huge_pages<T: Copy>(items: Vec<T>) -> Vec<T> {
-    let bytes = size_of_val(&items[..]);
-    if bytes < HUGE_ABOVE_BYTES || !cfg!(target_os = "linux") {
+    if size_of_val(&items[..]) < HUGE_ABOVE_BYTES || !cfg!(target_os = "linux") {
         return items;
     }
-    let mut copy: Vec<T> = Vec::with_capacity(items.len());
-    advise_huge(copy.as_mut_ptr().cast(), bytes);
+    let mut copy = with_capacity(items.len());
     copy.extend_from_slice(&items);
     copy
 }
@@ -87,9 +97,9 @@ mod tests {
     }
 
     /// Copies keep every value, small arrays stay in place, and on a
-    /// Linux kernel whose THP mode is `madvise` the copy of a large array
-    /// lies in a mapping marked for huge pages, which a plain allocation
-    /// of the same size is not.
+    /// Linux kernel whose THP mode is `madvise` the copy of a large array,
+    /// and a large array filled in place, lie in mappings marked for huge
+    /// pages, which a plain allocation of the same size is not.
     #[test]
     fn large_arrays_are_marked_for_huge_pages() {
         let small: Vec<u32> = (0..1000).collect();
@@ -111,6 +121,14 @@ mod tests {
         }
         let inside = large.as_ptr() as usize + HUGE_PAGE;
         assert_eq!(thp_eligible(inside), Some(true), "the copy is marked");
+        let mut filled: Vec<u32> = with_capacity(n);
+        filled.extend(0..n as u32);
+        let inside = filled.as_ptr() as usize + HUGE_PAGE;
+        assert_eq!(
+            thp_eligible(inside),
+            Some(true),
+            "an array filled in place is marked"
+        );
         let plain: Vec<u32> = vec![1; n];
         let inside = plain.as_ptr() as usize + HUGE_PAGE;
         assert_eq!(thp_eligible(inside), Some(false), "a plain array is not");

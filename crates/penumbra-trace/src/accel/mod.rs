@@ -120,8 +120,14 @@ impl Accel {
             .collect();
         let bvh2 = obvhs::bvh2::builder::build_bvh2(&boxes, params, &mut Duration::default());
         let mut wide = Wide::collapse(&bvh2);
-        let mut blocks = Vec::new();
-        let mut primitive_indices = Vec::new();
+        // The nodes copied onto huge pages (before the blocks are
+        // allocated: afterwards glibc served the copy from memory already
+        // touched, with no huge pages, measured), the leaf blocks and
+        // primitive indices filled in place on them.
+        wide.nodes = huge_pages::on_huge_pages(wide.nodes);
+        let block_count: usize = wide.leaf_counts().map(|n| n.div_ceil(LANES)).sum();
+        let mut blocks = huge_pages::with_capacity(block_count);
+        let mut primitive_indices = huge_pages::with_capacity(block_count * LANES);
         wide.renumber_leaves(|first, count| {
             let start = blocks.len() as u32;
             for base in (0..count).step_by(LANES) {
@@ -140,9 +146,7 @@ impl Accel {
             }
             start
         });
-        wide.nodes = huge_pages::on_huge_pages(wide.nodes);
-        let blocks = huge_pages::on_huge_pages(blocks);
-        let primitive_indices = huge_pages::on_huge_pages(primitive_indices);
+        debug_assert_eq!(blocks.len(), block_count, "no regrowth off the huge pages");
         let bytes = wide.nodes.len() * size_of::<wide::Node8>() + size_of_val(&blocks[..]);
         Self {
             wide,

@@ -153,6 +153,16 @@ impl Wide {
         wide
     }
 
+    /// The triangle count of each leaf, in the order
+    /// [`Wide::renumber_leaves`] visits them.
+    pub fn leaf_counts(&self) -> impl Iterator<Item = usize> + '_ {
+        self.nodes
+            .iter()
+            .flat_map(|node| node.child)
+            .filter(|code| code & LEAF_BIT != 0)
+            .map(|code| leaf_parts(code).1)
+    }
+
     /// Gives each leaf, in node order, the start field `start(first,
     /// count)` in place of its first primitive index.
     pub fn renumber_leaves(&mut self, mut start: impl FnMut(usize, usize) -> u32) {
