@@ -2,14 +2,11 @@
 //! that one ray tests all eight child boxes with one 8-lane instruction per
 //! plane (Fuetterling et al. 2017, "Accelerated single ray tracing for wide
 //! vector units"; the layout of tinybvh's `BVH8_CPU`). It is made by
-//! collapsing a binary BVH (obvhs: PLOC + reinsertion + SAH leaf collapse):
-//! each node takes its binary children and keeps opening the one with the
-//! largest surface area until it has eight (Wald et al. 2008, "Getting rid
-//! of packets").
+//! collapsing a binary BVH (obvhs: PLOC + reinsertion + SAH leaf collapse)
+//! with the least SAH cost (`collapse.rs`).
 
 use super::block::{LANES, LEAF_LANES};
 use obvhs::aabb::Aabb;
-use obvhs::bvh2::Bvh2;
 
 /// Children per node.
 pub(super) const WIDTH: usize = 8;
@@ -19,8 +16,8 @@ pub(super) const LEAF_MAX: u32 = LEAF_LANES as u32;
 
 /// A slot's code: an inner node's index, or a leaf: this bit, its triangle
 /// count in [`COUNT_SHIFT`].., and its triangles' block (`block.rs`) below.
-/// While [`Wide::collapse`] runs, the low bits are the leaf's first index
-/// into the binary BVH's primitive list instead.
+/// As `collapse.rs` makes them, the low bits are the leaf's first index
+/// into the collapse's primitive list instead.
 pub(super) const LEAF_BIT: u32 = 1 << 31;
 pub(super) const COUNT_SHIFT: u32 = 27;
 const START_MASK: u32 = (1 << COUNT_SHIFT) - 1;
@@ -54,7 +51,7 @@ pub(super) const TEST_BOXES: [([f32; 3], [f32; 3]); 7] = [
 ];
 
 impl Node8 {
-    const EMPTY: Node8 = Node8 {
+    pub const EMPTY: Node8 = Node8 {
         bounds: [
             [f32::INFINITY; WIDTH],
             [f32::NEG_INFINITY; WIDTH],
@@ -72,7 +69,7 @@ impl Node8 {
         ([b[0][i], b[2][i], b[4][i]], [b[1][i], b[3][i], b[5][i]])
     }
 
-    fn set_slot(&mut self, i: usize, b: &Aabb, child: u32) {
+    pub fn set_slot(&mut self, i: usize, b: &Aabb, child: u32) {
         for a in 0..3 {
             self.bounds[2 * a][i] = b.min[a];
             self.bounds[2 * a + 1][i] = b.max[a];
@@ -134,25 +131,6 @@ pub(super) struct Wide {
 }
 
 impl Wide {
-    /// Collapses `bvh2` (leaves of at most [`LEAF_MAX`] primitives indexing
-    /// `bvh2.primitive_indices`) into 8-wide nodes.
-    pub fn collapse(bvh2: &Bvh2) -> Self {
-        let mut wide = Wide {
-            nodes: Vec::with_capacity(bvh2.nodes.len() / 4 + 1),
-            depth: 0,
-        };
-        let root = &bvh2.nodes[0];
-        if root.is_leaf() {
-            let mut n = Node8::EMPTY;
-            n.set_slot(0, &root.aabb, leaf_code(root.first_index, root.prim_count));
-            wide.nodes.push(n);
-            wide.depth = 1;
-        } else {
-            wide.depth = wide.add(bvh2, 0);
-        }
-        wide
-    }
-
     /// The triangle count of each leaf, in the order
     /// [`Wide::renumber_leaves`] visits them.
     pub fn leaf_counts(&self) -> impl Iterator<Item = usize> + '_ {
@@ -175,43 +153,5 @@ impl Wide {
                 }
             }
         }
-    }
-
-    /// Adds the node made from binary node `n2` (an inner node) and its
-    /// subtree; returns the subtree's depth in wide nodes.
-    fn add(&mut self, bvh2: &Bvh2, n2: usize) -> usize {
-        let index = self.nodes.len();
-        self.nodes.push(Node8::EMPTY);
-        let first = bvh2.nodes[n2].first_index as usize;
-        let mut kids = [0usize; WIDTH];
-        kids[0] = first;
-        kids[1] = first + 1;
-        let mut count = 2;
-        while count < WIDTH {
-            let largest = (0..count)
-                .filter(|&k| !bvh2.nodes[kids[k]].is_leaf())
-                .max_by(|&a, &b| {
-                    let area = |k: usize| bvh2.nodes[kids[k]].aabb.half_area();
-                    area(a).total_cmp(&area(b))
-                });
-            let Some(k) = largest else { break };
-            let f = bvh2.nodes[kids[k]].first_index as usize;
-            kids[k] = f;
-            kids[count] = f + 1;
-            count += 1;
-        }
-        let mut depth = 1;
-        for (slot, &k) in kids[..count].iter().enumerate() {
-            let node = &bvh2.nodes[k];
-            let code = if node.is_leaf() {
-                leaf_code(node.first_index, node.prim_count)
-            } else {
-                let child = self.nodes.len() as u32;
-                depth = depth.max(1 + self.add(bvh2, k));
-                child
-            };
-            self.nodes[index].set_slot(slot, &node.aabb, code);
-        }
-        depth
     }
 }
