@@ -134,6 +134,11 @@ pub enum Visit {
     Triangles,
 }
 
+impl Visit {
+    /// Every kind, in counter order.
+    pub const ALL: [Visit; 3] = [Visit::Node, Visit::Leaf, Visit::Triangles];
+}
+
 /// Node visits, leaf visits and the leaves' triangles, summed.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Visits {
@@ -172,14 +177,15 @@ mod counter {
     use std::sync::atomic::{AtomicU64, Ordering};
 
     const N: usize = Stage::ALL.len();
+    const KINDS: usize = Visit::ALL.len();
 
     thread_local! {
         static LOCAL: [Cell<(u64, u64)>; N] = const { [const { Cell::new((0, 0)) }; N] };
-        static LOCAL_VISITS: [Cell<u64>; 3] = const { [const { Cell::new(0) }; 3] };
+        static LOCAL_VISITS: [Cell<u64>; KINDS] = const { [const { Cell::new(0) }; KINDS] };
     }
     static TICKS: [AtomicU64; N] = [const { AtomicU64::new(0) }; N];
     static CALLS: [AtomicU64; N] = [const { AtomicU64::new(0) }; N];
-    static VISITS: [AtomicU64; 3] = [const { AtomicU64::new(0) }; 3];
+    static VISITS: [AtomicU64; KINDS] = [const { AtomicU64::new(0) }; KINDS];
 
     #[inline(always)]
     pub fn visit(what: Visit, n: u64) {
