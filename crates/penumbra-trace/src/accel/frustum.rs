@@ -22,7 +22,7 @@
 use super::packet::{
     AVX2, AVX512, PACKET, PORTABLE, PacketBoxes, SWITCH, finish_alone, leaf_step_lanes,
 };
-use super::traverse::{Entry, Query, insert_by_decreasing_t, prefetch};
+use super::traverse::{Entry, Query, SetBits, insert_by_decreasing_t, prefetch};
 use super::watertight::TriangleHit;
 use super::wide::{LEAF_BIT, Node8, WIDTH};
 use std::mem::MaybeUninit;
@@ -264,7 +264,7 @@ pub(super) fn closest_frustum<const SIMD: u8>(
             let node = &q0.wide.nodes[code as usize];
             let tmax = farthest(&best_t, active);
             let mut t = [0.0; WIDTH];
-            let mut m = frustum.slab::<SIMD>(node, tmax, &mut t);
+            let entered = frustum.slab::<SIMD>(node, tmax, &mut t);
             // Entered children, sorted by decreasing entry bound.
             let mut hits = [FrustumEntry {
                 code: 0,
@@ -272,9 +272,7 @@ pub(super) fn closest_frustum<const SIMD: u8>(
                 t: 0.0,
             }; WIDTH];
             let mut n = 0;
-            while m != 0 {
-                let slot = m.trailing_zeros() as usize;
-                m &= m - 1;
+            for slot in SetBits(entered) {
                 let child = node.child[slot];
                 let mask = if child & LEAF_BIT != 0 {
                     let mut tl = [0.0; PACKET];

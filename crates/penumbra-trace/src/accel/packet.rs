@@ -30,7 +30,7 @@
 
 use super::frustum::{Frustum, FrustumEntry, closest_frustum};
 use super::traverse::{
-    Entry, Kernel, Query, STACK_INLINE, Walk, insert_by_decreasing_t, leaf_step, prefetch,
+    Entry, Kernel, Query, STACK_INLINE, SetBits, Walk, insert_by_decreasing_t, leaf_step, prefetch,
     stack_entries,
 };
 use super::watertight::TriangleHit;
@@ -269,19 +269,13 @@ pub(super) fn finish_alone<const SIMD: u8>(
     let mut walks: [(usize, Walk); SWITCH] =
         std::array::from_fn(|_| (0, Walk::subtree(code, 0.0, None)));
     let mut n = 0;
-    let mut m = lanes;
-    while m != 0 {
-        let l = m.trailing_zeros() as usize;
-        m &= m - 1;
+    for l in SetBits(lanes) {
         walks[n] = (l, Walk::subtree(code, best_t[l], best[l]));
         n += 1;
     }
     let mut running = (1u32 << n) - 1;
     while running != 0 {
-        let mut m = running;
-        while m != 0 {
-            let k = m.trailing_zeros() as usize;
-            m &= m - 1;
+        for k in SetBits(running) {
             let (l, walk) = &mut walks[k];
             let stack = &mut stacks[k * stride..(k + 1) * stride];
             let more = if SIMD == PORTABLE {
@@ -309,10 +303,7 @@ pub(super) fn leaf_step_lanes<const SIMD: u8>(
     best: &mut [Option<(usize, TriangleHit)>; PACKET],
 ) {
     let keep = |_, _, _| true;
-    let mut m = lanes;
-    while m != 0 {
-        let l = m.trailing_zeros() as usize;
-        m &= m - 1;
+    for l in SetBits(lanes) {
         let (q, t, b) = (&queries[l], &mut best_t[l], &mut best[l]);
         if SIMD == PORTABLE {
             leaf_step::<false>(q, code, &keep, t, b);
@@ -417,11 +408,8 @@ fn closest_packet<const SIMD: u8>(
             }
             sp -= 1;
             let e = &stack[sp];
-            let mut m = e.mask;
             let mut live = 0;
-            while m != 0 {
-                let l = m.trailing_zeros() as usize;
-                m &= m - 1;
+            for l in SetBits(e.mask) {
                 live |= ((e.t[l] <= best_t[l]) as u32) << l;
             }
             if live != 0 {

@@ -195,6 +195,25 @@ pub(super) fn stack_entries(depth: usize) -> usize {
     (WIDTH - 1) * depth + 1
 }
 
+/// The indices of a mask's set bits, lowest first: the slots a box test
+/// entered, the lanes of a packet, the lanes a leaf test hit.
+#[derive(Clone, Copy)]
+pub(super) struct SetBits(pub u32);
+
+impl Iterator for SetBits {
+    type Item = usize;
+
+    #[inline(always)]
+    fn next(&mut self) -> Option<usize> {
+        if self.0 == 0 {
+            return None;
+        }
+        let i = self.0.trailing_zeros() as usize;
+        self.0 &= self.0 - 1;
+        Some(i)
+    }
+}
+
 /// Inserts `e` into `sorted[..n]` (n < [`WIDTH`]), which stays in
 /// decreasing order of `t`: the nearest entry last, to be visited first.
 /// Of equal distances the later inserted goes nearer the end.
@@ -386,10 +405,7 @@ fn leaf_lanes<const AVX2: bool>(
     let blocks = &q.blocks[b..];
     match leaf_hits::<AVX2>(q, blocks, count, tmax()) {
         Some(hits) => {
-            let mut m = hits.mask;
-            while m != 0 {
-                let lane = m.trailing_zeros() as usize;
-                m &= m - 1;
+            for lane in SetBits(hits.mask) {
                 if let Some(h) = hits.within(lane, tmax())
                     && !visit(LANES * b + lane, h)
                 {
@@ -504,10 +520,8 @@ impl Walk {
                     return true;
                 }
                 if q.prefetch {
-                    let mut m = mask;
-                    while m != 0 {
-                        prefetch(q, node.child[m.trailing_zeros() as usize]);
-                        m &= m - 1;
+                    for i in SetBits(mask) {
+                        prefetch(q, node.child[i]);
                     }
                 }
                 if rest & (rest - 1) == 0 {
@@ -531,10 +545,7 @@ impl Walk {
                 // Hit slots sorted by decreasing entry distance.
                 let mut hits = [Entry { code: 0, t: 0.0 }; WIDTH];
                 let mut n = 0;
-                let mut m = mask;
-                while m != 0 {
-                    let i = m.trailing_zeros() as usize;
-                    m &= m - 1;
+                for i in SetBits(mask) {
                     let e = Entry {
                         code: node.child[i],
                         t: t[i],
@@ -652,10 +663,7 @@ fn any<const AVX2: bool>(
         } else {
             let node = &q.wide.nodes[code as usize];
             let mut t = [0.0; WIDTH];
-            let mut m = slab::<AVX2>(node, &q.boxes, q.tmax, &mut t);
-            while m != 0 {
-                let i = m.trailing_zeros() as usize;
-                m &= m - 1;
+            for i in SetBits(slab::<AVX2>(node, &q.boxes, q.tmax, &mut t)) {
                 if q.prefetch {
                     prefetch(q, node.child[i]);
                 }
