@@ -24,6 +24,7 @@ use super::block::LANES;
 use super::wide::{LEAF_MAX, Node8, WIDTH, Wide, leaf_code};
 use obvhs::aabb::Aabb;
 use obvhs::bvh2::Bvh2;
+use std::cmp::Ordering;
 
 /// Cost of visiting a wide node: one 8-lane box test.
 const NODE_COST: f32 = 1.0;
@@ -119,13 +120,16 @@ impl Plan {
             }
         }
         let inner = area * NODE_COST + spread[WIDTH];
-        let leaf = if triangles <= LEAF_MAX {
+        let fits = triangles <= LEAF_MAX;
+        let leaf = if fits {
             area * leaf_cost(triangles)
         } else {
             f32::INFINITY
         };
         let one = inner.min(leaf);
-        self.leaf[n] = leaf <= inner;
+        // A leaf only where it fits, whatever the costs (∞ or NaN from
+        // degenerate boxes would otherwise make one of any size).
+        self.leaf[n] = fits && inner.partial_cmp(&leaf) != Some(Ordering::Less);
         self.node_split[n] = split[WIDTH];
         for j in 1..=WIDTH {
             let (c, k) = if spread[j] < one {
@@ -248,7 +252,7 @@ mod tests {
 
     /// Random boxes, some large and some small, clustered so that the
     /// binary tree has subtrees of different shapes.
-    fn random_boxes(count: usize, seed: u32) -> Vec<Aabb> {
+    fn random_boxes(count: usize, seed: u32, scale: f32) -> Vec<Aabb> {
         let mut s = penumbra_shading::sampling::Sampler::new(0, 0, 0, seed);
         (0..count)
             .map(|i| {
@@ -257,16 +261,17 @@ mod tests {
                 let cluster = (i % 3) as f32 * 4.0;
                 let lo = glam::Vec3A::new(a + cluster, b, c) * 4.0;
                 let size = 0.05 + d * d * 2.0;
-                Aabb::new(lo, lo + glam::Vec3A::new(size, size * 0.5, size * 2.0))
+                let hi = lo + glam::Vec3A::new(size, size * 0.5, size * 2.0);
+                Aabb::new(lo * scale, hi * scale)
             })
             .collect()
     }
 
-    fn binary(count: usize, seed: u32, leaf_max: u32) -> Bvh2 {
+    fn binary(count: usize, seed: u32, leaf_max: u32, scale: f32) -> Bvh2 {
         let mut params = BvhBuildParams::medium_build();
         params.max_prims_per_leaf = leaf_max;
         obvhs::bvh2::builder::build_bvh2(
-            &random_boxes(count, seed),
+            &random_boxes(count, seed, scale),
             params,
             &mut Duration::default(),
         )
@@ -350,8 +355,17 @@ mod tests {
     /// binary tree (enumerated), and each primitive is in one leaf.
     #[test]
     fn collapse_reaches_the_least_sah_cost_of_any_collapse() {
-        for (count, seed, leaf_max) in [(12, 1, 1), (20, 2, 1), (30, 3, 2), (40, 4, 3), (5, 5, 1)] {
-            let bvh2 = binary(count, seed, leaf_max);
+        // The last case's areas (about 10⁵⁰) overflow f32.
+        let cases = [
+            (12, 1, 1, 1.0),
+            (20, 2, 1, 1.0),
+            (30, 3, 2, 1.0),
+            (40, 4, 3, 1.0),
+            (5, 5, 1, 1.0),
+            (20, 6, 1, 1e25),
+        ];
+        for (count, seed, leaf_max, scale) in cases {
+            let bvh2 = binary(count, seed, leaf_max, scale);
             let (wide, primitives) = collapse(&bvh2);
             let least = all_cuts(&bvh2, 0)
                 .iter()
