@@ -99,7 +99,6 @@ impl Plan {
         if node.is_leaf() {
             self.triangles[n] = node.prim_count;
             self.cost[n] = [area * leaf_cost(node.prim_count); WIDTH];
-            self.choice[n] = [0; WIDTH];
             self.leaf[n] = true;
             return;
         }
@@ -142,15 +141,19 @@ impl Plan {
         }
     }
 
-    /// Appends the binary nodes that subtree `n` becomes as at most `j`
-    /// slots (the recursion is at most [`WIDTH`] deep: j shrinks).
-    fn slots(&self, bvh2: &Bvh2, n: usize, j: usize, out: &mut Vec<usize>) {
+    /// Appends to `out[..*len]` the binary nodes that subtree `n` becomes
+    /// as at most `j` slots (the recursion is at most [`WIDTH`] deep: j
+    /// shrinks).
+    fn slots(&self, bvh2: &Bvh2, n: usize, j: usize, out: &mut [usize; WIDTH], len: &mut usize) {
         match self.choice[n][j - 1] as usize {
-            0 => out.push(n),
+            0 => {
+                out[*len] = n;
+                *len += 1;
+            }
             k => {
                 let first = bvh2.nodes[n].first_index as usize;
-                self.slots(bvh2, first, k, out);
-                self.slots(bvh2, first + 1, j - k, out);
+                self.slots(bvh2, first, k, out, len);
+                self.slots(bvh2, first + 1, j - k, out, len);
             }
         }
     }
@@ -177,6 +180,7 @@ pub(super) fn collapse(bvh2: &Bvh2) -> (Wide, Vec<u32>) {
             depth: 0,
         },
         primitives: Vec::with_capacity(bvh2.primitive_indices.len()),
+        stack: Vec::new(),
     };
     if plan.leaf[0] {
         let mut node = Node8::EMPTY;
@@ -196,6 +200,8 @@ struct Collapse<'a> {
     plan: &'a Plan,
     wide: Wide,
     primitives: Vec<u32>,
+    /// [`Collapse::leaf`]'s walk, kept between leaves.
+    stack: Vec<usize>,
 }
 
 impl Collapse<'_> {
@@ -206,11 +212,12 @@ impl Collapse<'_> {
         self.wide.nodes.push(Node8::EMPTY);
         let first = self.bvh2.nodes[n].first_index as usize;
         let k = self.plan.node_split[n] as usize;
-        let mut slots = Vec::with_capacity(WIDTH);
-        self.plan.slots(self.bvh2, first, k, &mut slots);
-        self.plan.slots(self.bvh2, first + 1, WIDTH - k, &mut slots);
+        let (mut slots, mut len) = ([0; WIDTH], 0);
+        self.plan.slots(self.bvh2, first, k, &mut slots, &mut len);
+        self.plan
+            .slots(self.bvh2, first + 1, WIDTH - k, &mut slots, &mut len);
         let mut depth = 1;
-        for (slot, &s) in slots.iter().enumerate() {
+        for (slot, &s) in slots[..len].iter().enumerate() {
             let code = if self.plan.leaf[s] {
                 self.leaf(s)
             } else {
@@ -227,8 +234,8 @@ impl Collapse<'_> {
     /// appended to the list.
     fn leaf(&mut self, n: usize) -> u32 {
         let start = self.primitives.len();
-        let mut stack = vec![n];
-        while let Some(m) = stack.pop() {
+        self.stack.push(n);
+        while let Some(m) = self.stack.pop() {
             let node = &self.bvh2.nodes[m];
             let first = node.first_index as usize;
             if node.is_leaf() {
@@ -236,7 +243,7 @@ impl Collapse<'_> {
                 self.primitives
                     .extend_from_slice(&self.bvh2.primitive_indices[range]);
             } else {
-                stack.extend([first + 1, first]);
+                self.stack.extend([first + 1, first]);
             }
         }
         leaf_code(start as u32, (self.primitives.len() - start) as u32)
