@@ -19,13 +19,9 @@
 //! therefore entered by the interval test.
 #![allow(unsafe_code)]
 
-use super::packet::{
-    AVX2, AVX512, PACKET, PORTABLE, PacketBoxes, SWITCH, finish_alone, leaf_step_lanes,
-};
-use super::traverse::{Entry, Query, SetBits, insert_by_decreasing_t, prefetch};
-use super::watertight::TriangleHit;
+use super::packet::{AVX2, AVX512, NodeEntry, PACKET, PORTABLE, PacketBoxes};
+use super::traverse::{Query, SetBits, insert_by_decreasing_t, prefetch};
 use super::wide::{LEAF_BIT, Node8, WIDTH};
-use std::mem::MaybeUninit;
 
 /// The interval form of a packet whose rays share an octant: per axis the
 /// planes by which every ray enters and leaves a box, the origins that
@@ -236,85 +232,67 @@ pub(super) struct FrustumEntry {
     pub t: f32,
 }
 
-/// Closest hits of the lanes of `live` by a frustum walk (`frustum` of
-/// those lanes). Inner nodes are entered by the frustum test; a leaf by
-/// the lanes whose own box test enters it. At most [`SWITCH`] lanes in a
-/// subtree finish it alone ([`finish_alone`]).
-#[inline(always)]
-pub(super) fn closest_frustum<const SIMD: u8>(
-    queries: &[Query; PACKET],
-    boxes: &PacketBoxes,
-    frustum: &Frustum,
-    live: u32,
-    stack: &mut [FrustumEntry],
-    singles: &mut [MaybeUninit<Entry>],
-) -> [Option<(usize, TriangleHit)>; PACKET] {
-    let mut best = [None; PACKET];
-    let mut best_t: [f32; PACKET] = std::array::from_fn(|l| queries[l].tmax());
-    let q0 = &queries[0];
-    let mut sp = 0;
-    let mut code = 0u32;
-    let mut active = live;
-    loop {
-        if code & LEAF_BIT != 0 {
-            leaf_step_lanes::<SIMD>(queries, active, code, &mut best_t, &mut best);
-        } else if active.count_ones() as usize <= SWITCH {
-            finish_alone::<SIMD>(queries, active, code, &mut best_t, &mut best, singles);
-        } else {
-            let node = &q0.wide.nodes[code as usize];
-            let tmax = farthest(&best_t, active);
-            let mut t = [0.0; WIDTH];
-            let entered = frustum.slab::<SIMD>(node, tmax, &mut t);
-            // Entered children, sorted by decreasing entry bound.
-            let mut hits = [FrustumEntry {
-                code: 0,
-                mask: 0,
-                t: 0.0,
-            }; WIDTH];
-            let mut n = 0;
-            for slot in SetBits(entered) {
-                let child = node.child[slot];
-                let mask = if child & LEAF_BIT != 0 {
-                    let mut tl = [0.0; PACKET];
-                    boxes.slab::<SIMD>(node, slot, &best_t, &mut tl) & active
-                } else {
-                    active
-                };
-                if mask == 0 {
-                    continue;
-                }
-                if q0.prefetches() {
-                    prefetch(q0, child);
-                }
-                let e = FrustumEntry {
-                    code: child,
-                    mask,
-                    t: t[slot],
-                };
-                insert_by_decreasing_t(&mut hits, n, e, |e| e.t);
-                n += 1;
-            }
-            if n > 0 {
-                stack[sp..sp + n - 1].copy_from_slice(&hits[..n - 1]);
-                sp += n - 1;
-                code = hits[n - 1].code;
-                active = hits[n - 1].mask;
+/// The frustum walk: inner nodes entered by the frustum's interval test;
+/// a leaf by the lanes whose own box test enters it.
+pub(super) struct FrustumWalk<'a> {
+    pub frustum: Frustum,
+    pub boxes: &'a PacketBoxes,
+}
+
+impl NodeEntry for FrustumWalk<'_> {
+    type Deferred = FrustumEntry;
+
+    #[inline(always)]
+    fn enter<const SIMD: u8>(
+        &self,
+        q0: &Query,
+        node: &Node8,
+        active: u32,
+        best_t: &[f32; PACKET],
+        stack: &mut [FrustumEntry],
+    ) -> (usize, Option<(u32, u32)>) {
+        let tmax = farthest(best_t, active);
+        let mut t = [0.0; WIDTH];
+        let entered = self.frustum.slab::<SIMD>(node, tmax, &mut t);
+        // Entered children, sorted by decreasing entry bound.
+        let mut hits = [FrustumEntry {
+            code: 0,
+            mask: 0,
+            t: 0.0,
+        }; WIDTH];
+        let mut n = 0;
+        for slot in SetBits(entered) {
+            let child = node.child[slot];
+            let mask = if child & LEAF_BIT != 0 {
+                let mut tl = [0.0; PACKET];
+                self.boxes.slab::<SIMD>(node, slot, best_t, &mut tl) & active
+            } else {
+                active
+            };
+            if mask == 0 {
                 continue;
             }
-        }
-        loop {
-            if sp == 0 {
-                return best;
+            if q0.prefetches() {
+                prefetch(q0, child);
             }
-            sp -= 1;
-            let e = stack[sp];
-            let live = lanes_reaching::<SIMD>(e.t, &best_t, e.mask);
-            if live != 0 {
-                code = e.code;
-                active = live;
-                break;
-            }
+            let e = FrustumEntry {
+                code: child,
+                mask,
+                t: t[slot],
+            };
+            insert_by_decreasing_t(&mut hits, n, e, |e| e.t);
+            n += 1;
         }
+        if n == 0 {
+            return (0, None);
+        }
+        stack[..n - 1].copy_from_slice(&hits[..n - 1]);
+        (n - 1, Some((hits[n - 1].code, hits[n - 1].mask)))
+    }
+
+    #[inline(always)]
+    fn resume<const SIMD: u8>(e: &FrustumEntry, best_t: &[f32; PACKET]) -> (u32, u32) {
+        (e.code, lanes_reaching::<SIMD>(e.t, best_t, e.mask))
     }
 }
 

@@ -28,7 +28,7 @@
 //! points after the CPU check.
 #![allow(unsafe_code)]
 
-use super::frustum::{Frustum, FrustumEntry, closest_frustum};
+use super::frustum::{Frustum, FrustumEntry, FrustumWalk};
 use super::traverse::{
     Entry, Kernel, Query, STACK_INLINE, SetBits, Walk, insert_by_decreasing_t, leaf_step, prefetch,
     stack_entries,
@@ -48,7 +48,7 @@ pub(super) const AVX512: u8 = 2;
 /// A deferred subtree: its slot code, the packet's rays that entered its
 /// box, and each ray's entry distance.
 #[derive(Clone, Copy)]
-struct PacketEntry {
+pub(super) struct PacketEntry {
     code: u32,
     mask: u32,
     t: [f32; PACKET],
@@ -323,24 +323,48 @@ pub(super) fn leaf_step_lanes<const SIMD: u8>(
 /// of 2 and 4 on its camera rays.
 pub(super) const SWITCH: usize = 6;
 
+/// How a packet walk enters an inner node: each lane's own box test
+/// ([`PacketBoxes`], here) or the interval test that stands for all of
+/// them (`frustum.rs`).
+pub(super) trait NodeEntry {
+    /// A deferred subtree.
+    type Deferred: Copy;
+
+    /// Visits inner node `node` for the lanes of `active`, whose closest
+    /// hits so far lie at `best_t`: writes every entered child but the
+    /// nearest to `stack`, farthest first, and returns how many it wrote
+    /// and the nearest child's code and lanes (`None` if none is entered).
+    fn enter<const SIMD: u8>(
+        &self,
+        q0: &Query,
+        node: &Node8,
+        active: u32,
+        best_t: &[f32; PACKET],
+        stack: &mut [Self::Deferred],
+    ) -> (usize, Option<(u32, u32)>);
+
+    /// The code of deferred subtree `e` and its lanes that may still find
+    /// a hit before their `best_t` there.
+    fn resume<const SIMD: u8>(e: &Self::Deferred, best_t: &[f32; PACKET]) -> (u32, u32);
+}
+
 /// Closest hits of the rays of `queries` in the lanes of `live`, each the
 /// leaf-order triangle index and the hit (the one the single-ray walk
-/// finds): the packet walks the tree together, testing each entered
-/// node's slots for all its lanes, until at most [`SWITCH`] lanes enter a
-/// subtree, which they finish alone. `stack` must hold
-/// `(WIDTH − 1) · depth + 1` entries, `singles` [`SWITCH`] times as many
-/// (the stacks of [`finish_alone`]).
+/// finds): the packet walks the tree together, entering inner nodes as
+/// `nodes` says, until at most [`SWITCH`] lanes enter a subtree, which
+/// they finish alone. `stack` must hold `(WIDTH − 1) · depth + 1`
+/// entries, `singles` [`SWITCH`] times as many (the stacks of
+/// [`finish_alone`]).
 #[inline(always)]
-fn closest_packet<const SIMD: u8>(
+pub(super) fn walk_packet<const SIMD: u8, N: NodeEntry>(
     queries: &[Query; PACKET],
-    boxes: &PacketBoxes,
+    nodes: &N,
     live: u32,
-    stack: &mut [PacketEntry],
+    stack: &mut [N::Deferred],
     singles: &mut [MaybeUninit<Entry>],
 ) -> [Option<(usize, TriangleHit)>; PACKET] {
     let mut best = [None; PACKET];
-    let best_t_of = |l: usize| queries[l].tmax();
-    let mut best_t: [f32; PACKET] = std::array::from_fn(best_t_of);
+    let mut best_t: [f32; PACKET] = std::array::from_fn(|l| queries[l].tmax());
     let q0 = &queries[0];
     let mut sp = 0;
     let mut code = 0u32;
@@ -352,53 +376,11 @@ fn closest_packet<const SIMD: u8>(
             finish_alone::<SIMD>(queries, active, code, &mut best_t, &mut best, singles);
         } else {
             let node = &q0.wide.nodes[code as usize];
-            // Entered children, each with the nearest entry among the
-            // lanes that enter it, sorted by decreasing nearest entry.
-            let mut hits = [(
-                0.0,
-                PacketEntry {
-                    code: 0,
-                    mask: 0,
-                    t: [0.0; PACKET],
-                },
-            ); WIDTH];
-            let mut n = 0;
-            for slot in 0..WIDTH {
-                let mut t = [0.0; PACKET];
-                let mask = boxes.slab::<SIMD>(node, slot, &best_t, &mut t) & active;
-                if mask == 0 {
-                    continue;
-                }
-                if q0.prefetches() {
-                    prefetch(q0, node.child[slot]);
-                }
-                // Entry distances are ≥ 0, whose bits order as the values
-                // do: an integer min, which vectorises.
-                let nearest = (0..PACKET)
-                    .map(|l| {
-                        if mask >> l & 1 != 0 {
-                            t[l].to_bits()
-                        } else {
-                            u32::MAX
-                        }
-                    })
-                    .min()
-                    .map_or(f32::INFINITY, f32::from_bits);
-                let e = PacketEntry {
-                    code: node.child[slot],
-                    mask,
-                    t,
-                };
-                insert_by_decreasing_t(&mut hits, n, (nearest, e), |h| h.0);
-                n += 1;
-            }
-            if n > 0 {
-                for (k, h) in hits[..n - 1].iter().enumerate() {
-                    stack[sp + k] = h.1;
-                }
-                sp += n - 1;
-                code = hits[n - 1].1.code;
-                active = hits[n - 1].1.mask;
+            let (pushed, next) = nodes.enter::<SIMD>(q0, node, active, &best_t, &mut stack[sp..]);
+            sp += pushed;
+            if let Some((child, lanes)) = next {
+                code = child;
+                active = lanes;
                 continue;
             }
         }
@@ -407,21 +389,90 @@ fn closest_packet<const SIMD: u8>(
                 return best;
             }
             sp -= 1;
-            let e = &stack[sp];
-            let mut live = 0;
-            for l in SetBits(e.mask) {
-                live |= ((e.t[l] <= best_t[l]) as u32) << l;
-            }
-            if live != 0 {
-                code = e.code;
-                active = live;
+            let (child, lanes) = N::resume::<SIMD>(&stack[sp], &best_t);
+            if lanes != 0 {
+                code = child;
+                active = lanes;
                 break;
             }
         }
     }
 }
 
-/// [`closest_packet`] over all `count` rays, [`PACKET`] consecutive rays
+/// The per-lane walk: each child box tested against every active lane.
+impl NodeEntry for PacketBoxes {
+    type Deferred = PacketEntry;
+
+    #[inline(always)]
+    fn enter<const SIMD: u8>(
+        &self,
+        q0: &Query,
+        node: &Node8,
+        active: u32,
+        best_t: &[f32; PACKET],
+        stack: &mut [PacketEntry],
+    ) -> (usize, Option<(u32, u32)>) {
+        // Entered children, each with the nearest entry among the lanes
+        // that enter it, sorted by decreasing nearest entry.
+        let mut hits = [(
+            0.0,
+            PacketEntry {
+                code: 0,
+                mask: 0,
+                t: [0.0; PACKET],
+            },
+        ); WIDTH];
+        let mut n = 0;
+        for slot in 0..WIDTH {
+            let mut t = [0.0; PACKET];
+            let mask = self.slab::<SIMD>(node, slot, best_t, &mut t) & active;
+            if mask == 0 {
+                continue;
+            }
+            if q0.prefetches() {
+                prefetch(q0, node.child[slot]);
+            }
+            // Entry distances are ≥ 0, whose bits order as the values do:
+            // an integer min, which vectorises.
+            let nearest = (0..PACKET)
+                .map(|l| {
+                    if mask >> l & 1 != 0 {
+                        t[l].to_bits()
+                    } else {
+                        u32::MAX
+                    }
+                })
+                .min()
+                .map_or(f32::INFINITY, f32::from_bits);
+            let e = PacketEntry {
+                code: node.child[slot],
+                mask,
+                t,
+            };
+            insert_by_decreasing_t(&mut hits, n, (nearest, e), |h| h.0);
+            n += 1;
+        }
+        if n == 0 {
+            return (0, None);
+        }
+        for (k, h) in hits[..n - 1].iter().enumerate() {
+            stack[k] = h.1;
+        }
+        let nearest = &hits[n - 1].1;
+        (n - 1, Some((nearest.code, nearest.mask)))
+    }
+
+    #[inline(always)]
+    fn resume<const SIMD: u8>(e: &PacketEntry, best_t: &[f32; PACKET]) -> (u32, u32) {
+        let mut live = 0;
+        for l in SetBits(e.mask) {
+            live |= ((e.t[l] <= best_t[l]) as u32) << l;
+        }
+        (e.code, live)
+    }
+}
+
+/// [`walk_packet`] over all `count` rays, [`PACKET`] consecutive rays
 /// at a time; `found(i, hit)` receives each ray's hit.
 #[inline(always)]
 fn closest_packets<'a, const SIMD: u8>(
@@ -460,11 +511,14 @@ fn closest_packets<'a, const SIMD: u8>(
         let boxes = PacketBoxes::new(&queries);
         // Packets of one octant take the frustum walk, others the per-lane one.
         let hits = match Frustum::new(&boxes) {
-            Some(f) => {
-                let stack = &mut frustum_stack;
-                closest_frustum::<SIMD>(&queries, &boxes, &f, live, stack, &mut singles)
+            Some(frustum) => {
+                let nodes = FrustumWalk {
+                    frustum,
+                    boxes: &boxes,
+                };
+                walk_packet::<SIMD, _>(&queries, &nodes, live, &mut frustum_stack, &mut singles)
             }
-            None => closest_packet::<SIMD>(&queries, &boxes, live, stack, &mut singles),
+            None => walk_packet::<SIMD, _>(&queries, &boxes, live, stack, &mut singles),
         };
         for (l, hit) in hits.into_iter().take(n).enumerate() {
             found(first + l, hit);
