@@ -11,13 +11,15 @@
 #
 # The profile is made from the current sources, so it never goes stale:
 # when the sources (crates/, Cargo.toml, Cargo.lock and this script) are
-# those of the last PGO build, it only prints that build's path. It needs LLVM's llvm-profdata from rustup's llvm-tools
-# component, which it installs when missing. Two release builds (about
-# ten minutes on 2 cores the first time; incremental afterwards) in their
-# own target folders, target/pgo-gen and target/pgo. The training renders
-# take about a minute, one thread each so that the counts, and hence the
-# profile, are the same on every run (an unchanged profile keeps the
-# second build's cache).
+# those of the last PGO build, the script only prints that build's path.
+# Otherwise: two release builds in their own target folders, target/pgo-gen
+# and target/pgo (about ten minutes on 2 cores the first time), and the
+# training renders between them (about a minute, one thread each). The
+# counts differ a little from run to run (timers, progress reports), so a
+# new profile means new RUSTFLAGS and the second build compiles every crate
+# again (about three minutes), none of them with an older profile. It needs
+# LLVM's llvm-profdata from rustup's llvm-tools component, which it
+# installs when missing.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ROOT=$PWD
@@ -36,6 +38,10 @@ sysroot=$(rustc --print sysroot)
 host=$(rustc -vV | sed -n 's/^host: //p')
 PROFDATA=$sysroot/lib/rustlib/$host/bin/llvm-profdata
 if [ ! -x "$PROFDATA" ]; then
+  if ! command -v rustup > /dev/null; then
+    echo "build-pgo: needs LLVM's llvm-profdata from rustup's llvm-tools component, and rustup is missing" >&2
+    exit 1
+  fi
   rustup component add llvm-tools >&2
 fi
 
@@ -89,10 +95,11 @@ train bench --triangles 200000 --ray-resolution 256 --spp 2
 
 PROFILE_RAW=$OUT/merged.profdata
 "$PROFDATA" merge -o "$PROFILE_RAW" "$RAW"
-# Named by its contents: RUSTFLAGS change (and cargo rebuilds) only when
-# the profile does.
+# Named by its contents: cargo does not watch the file, but it does watch
+# RUSTFLAGS, so every crate is compiled with this profile.
 sum=$(sha256sum "$PROFILE_RAW" | cut -c1-16)
 PROFILE=$ROOT/target/pgo-profiles/penumbra-$sum.profdata
+rm -rf "$(dirname "$PROFILE")"
 mkdir -p "$(dirname "$PROFILE")"
 cp "$PROFILE_RAW" "$PROFILE"
 echo "build-pgo: the optimised build with $PROFILE (target/pgo)" >&2
