@@ -24,18 +24,20 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 ROOT=$PWD
 SHARED=$ROOT/../shared
+PGO_BIN=$ROOT/target/pgo/release/penumbra
 
 # The sources' fingerprint: tracked and untracked files, by content.
 STAMP=$ROOT/target/pgo/sources.sha256
+rustc_version=$(rustc -vV)
 fingerprint=$({ git ls-files -co --exclude-standard crates Cargo.toml Cargo.lock scripts/build-pgo.sh |
-  LC_ALL=C sort | xargs sha256sum; rustc -vV; } | sha256sum | cut -d' ' -f1)
-if [ -x "$ROOT/target/pgo/release/penumbra" ] && [ "$(cat "$STAMP" 2>/dev/null)" = "$fingerprint" ]; then
-  echo "$ROOT/target/pgo/release/penumbra"
+  LC_ALL=C sort | xargs sha256sum; echo "$rustc_version"; } | sha256sum | cut -d' ' -f1)
+if [ -x "$PGO_BIN" ] && [ "$(cat "$STAMP" 2>/dev/null)" = "$fingerprint" ]; then
+  echo "$PGO_BIN"
   exit 0
 fi
 
 sysroot=$(rustc --print sysroot)
-host=$(rustc -vV | sed -n 's/^host: //p')
+host=$(sed -n 's/^host: //p' <<<"$rustc_version")
 PROFDATA=$sysroot/lib/rustlib/$host/bin/llvm-profdata
 if [ ! -x "$PROFDATA" ]; then
   if ! command -v rustup > /dev/null; then
@@ -106,4 +108,4 @@ echo "build-pgo: the optimised build with $PROFILE (target/pgo)" >&2
 RUSTFLAGS="-Cprofile-use=$PROFILE" CARGO_TARGET_DIR=$ROOT/target/pgo \
   cargo build --release --locked -p penumbra-cli >&2
 echo "$fingerprint" > "$STAMP"
-echo "$ROOT/target/pgo/release/penumbra"
+echo "$PGO_BIN"
