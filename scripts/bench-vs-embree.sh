@@ -8,7 +8,7 @@
 # consecutive rays (`file-packets`). Needs the anchors' venv
 # (../shared/anchors/setup.sh).
 #
-#   scripts/bench-vs-embree.sh [PENUMBRA_BINARY...]   (default: a fresh release build)
+#   scripts/bench-vs-embree.sh [PENUMBRA_BINARY...]   (default: the PGO build; PGO=0: the release build)
 #
 # SCENE=cornell traces the Cornell box of ../shared/reference instead (its
 # 32 triangles merged into one OBJ, 2048² camera rays and as many random

@@ -8,7 +8,7 @@
 # is printed as a ratio to Mitsuba's. Needs the anchors' venv
 # (../shared/anchors/setup.sh).
 #
-#   scripts/bench-vs-mitsuba.sh [PENUMBRA_BINARY...]   (default: a fresh release build)
+#   scripts/bench-vs-mitsuba.sh [PENUMBRA_BINARY...]   (default: the PGO build; PGO=0: the release build)
 #
 # Several binaries (say the builds before and after a change) are run one
 # after another in the same run, so that their ratios share Mitsuba's time.
