@@ -15,7 +15,10 @@ export ANCHORS_OUT=$OUT
 mkdir -p "$OUT"
 if [ $# -eq 0 ]; then
   if [ "${PGO:-1}" = 1 ]; then
-    set -- "$(scripts/build-pgo.sh)"
+    # An assignment first: `set -- "$(…)"` would go on after a failed build
+    # (set's own status is 0), with an empty binary path.
+    pgo_bin=$(scripts/build-pgo.sh)
+    set -- "$pgo_bin"
   else
     cargo build --release -p penumbra-cli
     set -- "$PWD/target/release/penumbra"
