@@ -19,7 +19,9 @@
 //! therefore entered by the interval test.
 #![allow(unsafe_code)]
 
-use super::packet::{AVX2, AVX512, NodeEntry, PACKET, PORTABLE, PacketBoxes};
+use super::packet::{
+    AVX2, AVX512, Entered, NodeEntry, PACKET, PORTABLE, PacketBoxes, defer_all_but_nearest,
+};
 use super::traverse::{Query, SetBits, insert_by_decreasing_t, prefetch};
 use super::wide::{LEAF_BIT, Node8, WIDTH};
 
@@ -250,7 +252,7 @@ impl NodeEntry for FrustumWalk<'_> {
         active: u32,
         best_t: &[f32; PACKET],
         stack: &mut [FrustumEntry],
-    ) -> (usize, Option<(u32, u32)>) {
+    ) -> Option<Entered> {
         let tmax = farthest(best_t, active);
         let mut t = [0.0; WIDTH];
         let entered = self.frustum.slab::<SIMD>(node, tmax, &mut t);
@@ -283,11 +285,7 @@ impl NodeEntry for FrustumWalk<'_> {
             insert_by_decreasing_t(&mut hits, n, e, |e| e.t);
             n += 1;
         }
-        if n == 0 {
-            return (0, None);
-        }
-        stack[..n - 1].copy_from_slice(&hits[..n - 1]);
-        (n - 1, Some((hits[n - 1].code, hits[n - 1].mask)))
+        defer_all_but_nearest(&hits[..n], stack, |&e| e, |e| (e.code, e.mask))
     }
 
     #[inline(always)]

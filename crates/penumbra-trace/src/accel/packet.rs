@@ -332,8 +332,8 @@ pub(super) trait NodeEntry {
 
     /// Visits inner node `node` for the lanes of `active`, whose closest
     /// hits so far lie at `best_t`: writes every entered child but the
-    /// nearest to `stack`, farthest first, and returns how many it wrote
-    /// and the nearest child's code and lanes (`None` if none is entered).
+    /// nearest to `stack`, farthest first ([`defer_all_but_nearest`]).
+    /// `None` if no child is entered.
     fn enter<const SIMD: u8>(
         &self,
         q0: &Query,
@@ -341,11 +341,46 @@ pub(super) trait NodeEntry {
         active: u32,
         best_t: &[f32; PACKET],
         stack: &mut [Self::Deferred],
-    ) -> (usize, Option<(u32, u32)>);
+    ) -> Option<Entered>;
 
     /// The code of deferred subtree `e` and its lanes that may still find
     /// a hit before their `best_t` there.
     fn resume<const SIMD: u8>(e: &Self::Deferred, best_t: &[f32; PACKET]) -> (u32, u32);
+}
+
+/// What [`NodeEntry::enter`] did: how many children it deferred to the
+/// stack, and the nearest child's code and lanes, visited next.
+pub(super) struct Entered {
+    pub deferred: usize,
+    pub code: u32,
+    pub lanes: u32,
+}
+
+/// The end of both [`NodeEntry::enter`]s: of the entered children
+/// `sorted` (decreasing entry distance, the nearest last), writes the
+/// deferred form of every one but the nearest to `stack`, and returns
+/// the nearest's code and lanes; `None` when `sorted` is empty.
+#[inline(always)]
+pub(super) fn defer_all_but_nearest<H, E>(
+    sorted: &[H],
+    stack: &mut [E],
+    deferred: impl Fn(&H) -> E,
+    code_and_lanes: impl Fn(&H) -> (u32, u32),
+) -> Option<Entered> {
+    let (nearest, farther) = sorted.split_last()?;
+    debug_assert!(
+        stack.len() >= farther.len(),
+        "the stack holds every deferred child"
+    );
+    for (slot, h) in stack.iter_mut().zip(farther) {
+        *slot = deferred(h);
+    }
+    let (code, lanes) = code_and_lanes(nearest);
+    Some(Entered {
+        deferred: farther.len(),
+        code,
+        lanes,
+    })
 }
 
 /// Closest hits of the rays of `queries` in the lanes of `live`, each the
@@ -376,11 +411,10 @@ pub(super) fn walk_packet<const SIMD: u8, N: NodeEntry>(
             finish_alone::<SIMD>(queries, active, code, &mut best_t, &mut best, singles);
         } else {
             let node = &q0.wide.nodes[code as usize];
-            let (pushed, next) = nodes.enter::<SIMD>(q0, node, active, &best_t, &mut stack[sp..]);
-            sp += pushed;
-            if let Some((child, lanes)) = next {
-                code = child;
-                active = lanes;
+            if let Some(e) = nodes.enter::<SIMD>(q0, node, active, &best_t, &mut stack[sp..]) {
+                sp += e.deferred;
+                code = e.code;
+                active = e.lanes;
                 continue;
             }
         }
@@ -411,7 +445,7 @@ impl NodeEntry for PacketBoxes {
         active: u32,
         best_t: &[f32; PACKET],
         stack: &mut [PacketEntry],
-    ) -> (usize, Option<(u32, u32)>) {
+    ) -> Option<Entered> {
         // Entered children, each with the nearest entry among the lanes
         // that enter it, sorted by decreasing nearest entry.
         let mut hits = [(
@@ -452,14 +486,7 @@ impl NodeEntry for PacketBoxes {
             insert_by_decreasing_t(&mut hits, n, (nearest, e), |h| h.0);
             n += 1;
         }
-        if n == 0 {
-            return (0, None);
-        }
-        for (k, h) in hits[..n - 1].iter().enumerate() {
-            stack[k] = h.1;
-        }
-        let nearest = &hits[n - 1].1;
-        (n - 1, Some((nearest.code, nearest.mask)))
+        defer_all_but_nearest(&hits[..n], stack, |h| h.1, |h| (h.1.code, h.1.mask))
     }
 
     #[inline(always)]
