@@ -1,7 +1,8 @@
 //! Acceleration structure: an 8-wide BVH of uncompressed fp32 nodes
 //! (`wide.rs`), collapsed with the least SAH cost (`collapse.rs`) from a
 //! binary BVH that `obvhs` builds with PLOC + reinsertion, over
-//! world-space triangles; traversed one ray at a time with
+//! world-space triangles (many identical boxes grouped first,
+//! `identical_boxes.rs`); traversed one ray at a time with
 //! 8-lane box tests (`traverse.rs`, AVX2 where the CPU has it), several
 //! rays' walks interleaved, or rays in packets (`packet.rs`), with our
 //! watertight triangle test.
@@ -10,6 +11,7 @@ mod block;
 mod collapse;
 mod frustum;
 mod huge_pages;
+mod identical_boxes;
 mod packet;
 mod traverse;
 mod watertight;
@@ -120,7 +122,14 @@ impl Accel {
                 Aabb::new((lo - pad).into(), (hi + pad).into())
             })
             .collect();
-        let bvh2 = obvhs::bvh2::builder::build_bvh2(&boxes, params, &mut Duration::default());
+        let bvh2 = match identical_boxes::group_identical(&boxes) {
+            None => obvhs::bvh2::builder::build_bvh2(&boxes, params, &mut Duration::default()),
+            Some(grouped) => grouped.expand(
+                &obvhs::bvh2::builder::build_bvh2(&grouped.boxes, params, &mut Duration::default()),
+                LEAF_MAX as usize,
+                &boxes,
+            ),
+        };
         let (mut wide, leaf_primitives) = collapse::collapse(&bvh2);
         // The nodes copied onto huge pages (before the blocks are
         // allocated: afterwards glibc served the copy from memory already
@@ -426,6 +435,52 @@ mod tests {
             })
             .collect();
         (tris, rays)
+    }
+
+    /// Hundreds of copies of two large triangles among a random soup (the
+    /// copies grouped before PLOC, `identical_boxes.rs`): the tree holds
+    /// every triangle, and every kernel finds the brute-force closest
+    /// distance on a triangle equal to the brute force's (among copies
+    /// either may be named), and occlusion agrees.
+    #[test]
+    fn repeated_triangles_match_brute_force() {
+        let (mut tris, rays) = random_soup(1000, 3);
+        let big = [
+            [
+                Vec3::new(0.0, 0.0, 5.0),
+                Vec3::new(10.0, 0.0, 5.0),
+                Vec3::new(0.0, 10.0, 5.0),
+            ],
+            [
+                Vec3::new(10.0, 10.0, 2.0),
+                Vec3::new(0.0, 10.0, 2.0),
+                Vec3::new(10.0, 0.0, 2.0),
+            ],
+        ];
+        for k in 0..700 {
+            let at = 7 * k % (tris.len() + 1);
+            tris.insert(at, big[k % 2]);
+        }
+        for quality in [BuildQuality::Fast, BuildQuality::Medium] {
+            let mut accel = Accel::build(&tris, quality);
+            accel.validate().unwrap();
+            for kernel in Kernel::available() {
+                accel.set_kernel(kernel).unwrap();
+                let mut on_copies = 0;
+                for ray in &rays {
+                    let b = brute_force(&tris, ray);
+                    let a = accel.intersect(ray).map(|h| (h.triangle, h.t));
+                    let why = format!("{kernel:?} {quality:?} {ray:?}");
+                    assert_eq!(a.map(|h| h.1), b.map(|h| h.1), "{why}");
+                    if let (Some(a), Some(b)) = (a, b) {
+                        assert_eq!(tris[a.0 as usize], tris[b.0 as usize], "{why}");
+                        on_copies += big.contains(&tris[b.0 as usize]) as u32;
+                    }
+                    assert_eq!(accel.occluded(ray), b.is_some(), "{why}");
+                }
+                assert!(on_copies > 100, "the copies should be hit, got {on_copies}");
+            }
+        }
     }
 
     /// Every kernel finds the brute-force closest hit (same triangle, same
