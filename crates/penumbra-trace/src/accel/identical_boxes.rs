@@ -50,6 +50,8 @@ fn key(b: &Aabb) -> [u32; 6] {
     ]
 }
 
+/// The counting table's bucket of `b`: the top `bits` of a hash of its
+/// six words (three 64-bit products, then a multiply to mix them).
 fn bucket(b: &Aabb, bits: u32) -> usize {
     let [a, c, d, e, f, g] = key(b).map(u64::from);
     let h = (a | c << 32).wrapping_mul(0x9E37_79B9_7F4A_7C15)
