@@ -17,7 +17,7 @@ use std::collections::HashMap;
 
 /// Groups smaller than this go to PLOC as they are: k identical boxes
 /// cost it about k iterations, cheap for a few.
-pub(super) const MIN_GROUP: usize = 16;
+const MIN_GROUP: usize = 16;
 
 /// log2 of the buckets that count `n` boxes by hash, to find out cheaply
 /// whether any box can be repeated [`MIN_GROUP`] times: about two buckets
@@ -75,6 +75,9 @@ pub(super) fn group_identical(boxes: &[Aabb]) -> Option<Grouped> {
     if !crowded {
         return None;
     }
+    // The buckets are hashed again rather than kept from the count: a
+    // bucket per box would cost every build memory and time for this rare
+    // case.
     let mut by_box: HashMap<[u32; 6], Vec<u32>> = HashMap::new();
     for (i, b) in boxes.iter().enumerate() {
         if usize::from(counts[bucket(b, bits)]) >= MIN_GROUP {
