@@ -589,10 +589,13 @@ fn closest<const AVX2: bool>(
     walk.best
 }
 
-/// Rays whose walks [`closest_many`] interleaves on one thread. Six beat
-/// four by about 8 % on the 1M-triangle mesh's random rays (medians of
-/// 8 alternating runs, 2026-12-05; eight were no better than six).
-const IN_FLIGHT: usize = 6;
+/// Rays whose walks [`closest_many`] interleaves on one thread: more walks
+/// give each prefetched node longer to arrive. On the 1M-triangle mesh's
+/// random rays, six beat four by about 8 % on an Intel Xeon of model 207
+/// (2026-12-05; eight and ten were no better there); on the Xeon of model
+/// 167 of 2026-12-06, twelve beat six by 8–9 % on two threads (3 rounds
+/// alternating; 8, 10, 14 and 16 in between) and by 5–7 % on one.
+const IN_FLIGHT: usize = 12;
 
 /// Closest hits of `count` rays (`query(i)` sets up ray `i`), handed to
 /// `found(i, hit)` in the order the walks end. Up to [`IN_FLIGHT`] walks
