@@ -2,7 +2,10 @@
 # Closest-hit throughput of penumbra and Embree on exactly the same rays, in
 # one run: penumbra's bench sphere (~1M triangles) is exported as an OBJ,
 # ../shared/anchors/bench_embree.py makes the coherent (camera) and random
-# incoherent ray sets from it and times Embree 3 through Mitsuba, then
+# incoherent ray sets from it, and the incoherent rays again sorted by the
+# triangle they start on (`incoherent_sorted`: neighbouring origins, random
+# directions; the anchors' "extra" set, kinder to caches), and times
+# Embree 3 through Mitsuba on each, then
 # `penumbra bench --rays` traces the same files, one ray at a time
 # (`file`), interleaved (`file-interleaved`) and in packets of 16
 # consecutive rays (`file-packets`). Needs the anchors' venv
@@ -67,7 +70,7 @@ trace_sets() { # LABEL BENCH-OPTION...: three runs of each set with each binary
   local label=$1
   shift
   for bin in "${binaries[@]}"; do
-    for set in coherent incoherent; do
+    for set in coherent incoherent incoherent_sorted; do
       for run in 1 2 3; do
         line=$("$bin" bench "$@" --mesh "$OUT/mesh.obj" --rays "$OUT/rays/$set.rays" --spp 0 2>&1 | grep -E '^(build|file)' | tr -s ' ' | tr '\n' ' ')
         echo "$bin $set${label} run $run: $line" | tee -a "$OUT/penumbra.txt"
