@@ -23,7 +23,9 @@
 # penumbra's `bench --threads 1` on the same rays: single ray against
 # single ray, where the default compares with Mitsuba's 16-wide packets on
 # all cores.
-# Results: $OUT (default /tmp/bench-vs-embree): results.jsonl (Embree) and penumbra.txt.
+# Results: $OUT (default /tmp/bench-vs-embree): results.jsonl (Embree),
+# penumbra.txt, and summary.txt: each binary's Mrays/s (and build time)
+# over its runs, as ratios to Embree's in the same run.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 OUT=${OUT:-/tmp/bench-vs-embree}
@@ -87,3 +89,43 @@ if [ "${EMBREE_SINGLE:-0}" = 1 ]; then
   echo "Embree 4, rtcIntersect1, one thread:"
   grep -h '"trace_\|"bvh_build' "$OUT/results.jsonl" | tail -n 4 | cut -c1-200
 fi
+
+# Each binary's range over its runs as a ratio to Embree's median in this
+# run (the last measures of each tool in results.jsonl): the issue's table.
+python3 - "$OUT/results.jsonl" "$OUT/penumbra.txt" <<'PY' | tee "$OUT/summary.txt"
+import json, re, sys
+embree = {}
+for line in open(sys.argv[1]):
+    if line.startswith("{"):
+        r = json.loads(line)
+        if "measure" in r:
+            embree[("one thread" if r["tool"].startswith("embreex") else "all cores", r["measure"])] = r
+runs = {}
+for line in open(sys.argv[2]):
+    m = re.match(r"(\S+) (\S+?)( one thread,)? run \d+: (.*)", line)
+    if not m:
+        continue
+    key = (m[1], "one thread" if m[3] else "all cores", m[2])
+    for kind, seconds, rate in re.findall(r"(build|file\S*) (\S+) s (\S+) (?:Mtris|Mrays)/s", m[4]):
+        runs.setdefault(key, {}).setdefault(kind, []).append((float(seconds), float(rate)))
+span = lambda xs: f"{min(xs):.2f}-{max(xs):.2f}"
+names = {"file": "one at a time", "file-interleaved": "interleaved", "file-packets": "packets"}
+for (binary, threads, ray_set), kinds in sorted(runs.items(), key=lambda k: (k[0][1] != "all cores", k[0])):
+    base = embree.get((threads, "trace_" + ray_set))
+    parts = []
+    for kind, label in names.items():
+        if kind in kinds:
+            rate = [r for _, r in kinds[kind]]
+            ratio = f" ({span([x / base['mrays_per_s'] for x in rate])}x)" if base else ""
+            parts.append(f"{label} {span(rate)}{ratio}")
+    print(f"{binary}, {threads}, {ray_set}: " + ", ".join(parts)
+          + (f"; Embree {base['mrays_per_s']:.2f} Mrays/s" if base else ""))
+builds = {}
+for (binary, threads, _), kinds in runs.items():
+    builds.setdefault((binary, threads), []).extend(s for s, _ in kinds.get("build", []))
+for (binary, threads), seconds in sorted(builds.items(), key=lambda k: (k[0][1] != "all cores", k[0])):
+    build = embree.get((threads, "bvh_build"))
+    if seconds and build:
+        print(f"{binary}, {threads}, build (every run): {span(seconds)} s, "
+              f"{span([build['seconds'] / s for s in seconds])}x Embree's rate ({build['seconds']:.3f} s)")
+PY

@@ -593,8 +593,9 @@ fn closest<const AVX2: bool>(
 /// give each prefetched node longer to arrive. On the 1M-triangle mesh's
 /// random rays, six beat four by about 8 % on an Intel Xeon of model 207
 /// (2026-12-05; eight and ten were no better there); on the Xeon of model
-/// 167 of 2026-12-06, twelve beat six by 8–9 % on two threads (3 rounds
-/// alternating; 8, 10, 14 and 16 in between) and by 5–7 % on one.
+/// 167 of 2026-12-06, twelve beat six by 7–12 % on two threads (medians
+/// of two runs of 3–4 rounds alternating; 8, 10, 14 and 16 in between)
+/// and by 5–7 % on one.
 const IN_FLIGHT: usize = 12;
 
 /// Closest hits of `count` rays (`query(i)` sets up ray `i`), handed to
