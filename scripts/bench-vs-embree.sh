@@ -81,17 +81,14 @@ trace_sets() { # LABEL BENCH-OPTION...: three runs of each set with each binary
   done
 }
 trace_sets ""
-# This run's four measures (results.jsonl keeps every run's).
-grep -h '"trace_\|"bvh_build' "$OUT/results.jsonl" | tail -n 4 | cut -c1-200
 if [ "${EMBREE_SINGLE:-0}" = 1 ]; then
   "$PY" "$ANCHORS/bench_embree.py" --backend embreex --runs 3 --scene "$OUT/scene.json" > /dev/null
   trace_sets " one thread," --threads 1
-  echo "Embree 4, rtcIntersect1, one thread:"
-  grep -h '"trace_\|"bvh_build' "$OUT/results.jsonl" | tail -n 4 | cut -c1-200
 fi
 
 # Each binary's range over its runs as a ratio to Embree's median in this
-# run (the last measures of each tool in results.jsonl): the issue's table.
+# run (the last measures of each tool in results.jsonl, which keeps every
+# run's), with Embree's own figures: the issue's table.
 python3 - "$OUT/results.jsonl" "$OUT/penumbra.txt" <<'PY' | tee "$OUT/summary.txt"
 import json, re, sys
 embree = {}
@@ -109,8 +106,9 @@ for line in open(sys.argv[2]):
     for kind, seconds, rate in re.findall(r"(build|file\S*) (\S+) s (\S+) (?:Mtris|Mrays)/s", m[4]):
         runs.setdefault(key, {}).setdefault(kind, []).append((float(seconds), float(rate)))
 span = lambda xs: f"{min(xs):.2f}-{max(xs):.2f}"
+all_cores_first = lambda item: (item[0][1] != "all cores", item[0])
 names = {"file": "one at a time", "file-interleaved": "interleaved", "file-packets": "packets"}
-for (binary, threads, ray_set), kinds in sorted(runs.items(), key=lambda k: (k[0][1] != "all cores", k[0])):
+for (binary, threads, ray_set), kinds in sorted(runs.items(), key=all_cores_first):
     base = embree.get((threads, "trace_" + ray_set))
     parts = []
     for kind, label in names.items():
@@ -123,7 +121,7 @@ for (binary, threads, ray_set), kinds in sorted(runs.items(), key=lambda k: (k[0
 builds = {}
 for (binary, threads, _), kinds in runs.items():
     builds.setdefault((binary, threads), []).extend(s for s, _ in kinds.get("build", []))
-for (binary, threads), seconds in sorted(builds.items(), key=lambda k: (k[0][1] != "all cores", k[0])):
+for (binary, threads), seconds in sorted(builds.items(), key=all_cores_first):
     build = embree.get((threads, "bvh_build"))
     if seconds and build:
         print(f"{binary}, {threads}, build (every run): {span(seconds)} s, "
