@@ -99,11 +99,11 @@ mod tests {
     }
 
     /// The polynomials against f64's sin and cos over the whole quarter
-    /// (its ends included): within 2⁻²³ (one ulp of values in [½, 1),
-    /// where both lie here but for sin near 0, which is below ψ's own
-    /// rounding there); and the concentric map they serve against the
-    /// same map made in f64, on a grid that reaches every sector and the
-    /// diagonals between them.
+    /// (its ends included): within 2⁻²³ in absolute terms, one ulp of
+    /// values in [½, 1), where cos always lies and sin at the quarter's
+    /// ends; and the concentric map they serve against the same map made
+    /// in f64, on a grid that reaches every sector and the diagonals
+    /// between them.
     #[test]
     fn quarter_sin_cos_match_f64() {
         let quarter = std::f64::consts::FRAC_PI_4;
