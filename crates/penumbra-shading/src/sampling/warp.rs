@@ -4,21 +4,27 @@ use glam::{Vec2, Vec3};
 use std::f32::consts::{FRAC_1_PI, PI};
 
 /// Concentric map of [0,1)² onto the unit disk (Shirley & Chiu 1997);
-/// uniform in area, pdf = 1/π.
+/// uniform in area, pdf = 1/π. Free of branches (both sectors' values are
+/// computed and one is chosen), so that loops over many samples vectorise.
+#[inline]
 pub fn square_to_disk_concentric(u: [f32; 2]) -> Vec2 {
     let a = 2.0 * u[0] - 1.0;
     let b = 2.0 * u[1] - 1.0;
-    if a == 0.0 && b == 0.0 {
-        return Vec2::ZERO;
-    }
-    // φ = ψ in the sectors around ±x, φ = π/2 − ψ around ±y (cos φ =
-    // sin ψ, sin φ = cos ψ), with |ψ| ≤ π/4 either way.
-    if a.abs() > b.abs() {
-        let (cos, sin) = cos_sin_within_quarter((PI / 4.0) * (b / a));
-        Vec2::new(a * cos, a * sin)
+    // φ = ψ in the sectors around ±x (r = a), φ = π/2 − ψ around ±y
+    // (r = b; cos φ = sin ψ, sin φ = cos ψ), with |ψ| ≤ π/4 either way.
+    let around_x = a.abs() > b.abs();
+    let (r, other) = if around_x { (a, b) } else { (b, a) };
+    // The centre (r = 0) maps to 0 whatever ψ; ψ = 0 avoids 0/0.
+    let psi = if r == 0.0 {
+        0.0
     } else {
-        let (cos, sin) = cos_sin_within_quarter((PI / 4.0) * (a / b));
-        Vec2::new(b * sin, b * cos)
+        (PI / 4.0) * (other / r)
+    };
+    let (cos, sin) = cos_sin_within_quarter(psi);
+    if around_x {
+        Vec2::new(r * cos, r * sin)
+    } else {
+        Vec2::new(r * sin, r * cos)
     }
 }
 
@@ -39,6 +45,7 @@ fn cos_sin_within_quarter(psi: f32) -> (f32, f32) {
 
 /// Cosine-weighted hemisphere (Malley's method). pdf(ω) = cos θ / π
 /// with respect to solid angle.
+#[inline]
 pub fn square_to_cosine_hemisphere(u: [f32; 2]) -> Vec3 {
     let d = square_to_disk_concentric(u);
     let z = (1.0 - d.length_squared()).max(0.0).sqrt();
