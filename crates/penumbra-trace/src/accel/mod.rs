@@ -13,6 +13,7 @@ mod frustum;
 mod huge_pages;
 mod identical_boxes;
 mod packet;
+pub(crate) mod scan;
 mod traverse;
 mod watertight;
 mod wide;
