@@ -11,6 +11,7 @@
 use crate::accel::BuildQuality;
 use crate::geometry::{SceneGeometry, SceneTooLarge};
 use crate::integrator::TraceContext;
+use crate::integrator::wavefront::WavefrontScene;
 use crate::lights::LightSampler;
 use crate::stages::{Stage, timed};
 use crate::texture_lod::RayCone;
@@ -95,6 +96,11 @@ pub struct RenderOptions<'a> {
     /// relMSE ([`penumbra_image::noise_rel_mse`]) is at most this, once
     /// every pixel holds [`MIN_SPP_FOR_TARGET`] samples.
     pub target_rel_mse: Option<f64>,
+    /// Trace paths one at a time even where the wavefront integrator
+    /// (sixteen paths at a time, `integrator/wavefront.rs`) applies, for
+    /// comparisons; the environment variable `PENUMBRA_SCALAR_PATHS=1`
+    /// does the same.
+    pub scalar_paths: bool,
 }
 
 impl std::fmt::Debug for RenderOptions<'_> {
@@ -106,6 +112,7 @@ impl std::fmt::Debug for RenderOptions<'_> {
             .field("crop", &self.crop)
             .field("resume", &self.resume.as_ref().map(|r| r.next))
             .field("target_rel_mse", &self.target_rel_mse)
+            .field("scalar_paths", &self.scalar_paths)
             .finish()
     }
 }
@@ -133,6 +140,9 @@ pub struct RenderOutput {
     pub stop: Stop,
     pub build_seconds: f64,
     pub render_seconds: f64,
+    /// Whether the wavefront integrator traced the paths (sixteen at a
+    /// time, `integrator/wavefront.rs`), not the scalar one.
+    pub wavefront: bool,
 }
 
 /// The camera of the scene, or one framing its bounds
@@ -199,6 +209,12 @@ pub fn render(
         settings,
         camera_cone: RayCone::camera(&camera, h, settings.spp),
     };
+    // Sixteen paths at a time where the scene allows (`wavefront.rs`).
+    let scalar_paths = options.scalar_paths
+        || std::env::var_os("PENUMBRA_SCALAR_PATHS").is_some_and(|v| !v.is_empty() && v != "0");
+    let wavefront = (!options.aovs && !scalar_paths)
+        .then(|| WavefrontScene::new(scene, &geometry, settings))
+        .flatten();
     let crop = options.crop.clone().unwrap_or(Crop { x: 0..w, y: 0..h });
     assert!(crop.x.end <= w && crop.y.end <= h, "crop outside the image");
     let samples = options.samples.clone().unwrap_or(0..settings.spp);
@@ -247,7 +263,10 @@ pub fn render(
         let results: Vec<TileOutput> = rects
             .par_iter()
             .map(|r| {
-                let out = render_tile(&ctx, &camera, r, s0, s1, options.aovs);
+                let out = match &wavefront {
+                    Some(paths) => wavefront_tile(paths, &camera, settings, r, s0, s1),
+                    None => render_tile(&ctx, &camera, r, s0, s1, options.aovs),
+                };
                 let n = r.w as u64 * r.h as u64 * (s1 - s0) as u64;
                 let before = done.fetch_add(n, Ordering::Relaxed);
                 if let Some(p) = options.progress {
@@ -306,6 +325,7 @@ pub fn render(
         stop,
         build_seconds,
         render_seconds: t1.elapsed().as_secs_f64(),
+        wavefront: wavefront.is_some(),
     })
 }
 
@@ -321,6 +341,34 @@ struct TileOutput {
     aovs: Vec<FilmTile>,
     /// Per pixel of the tile, the samples whose camera ray hit a surface.
     hits: Vec<u32>,
+}
+
+/// Samples `s0..s1` of tile `r` by the wavefront integrator.
+fn wavefront_tile(
+    paths: &WavefrontScene,
+    camera: &Camera,
+    settings: &RenderSettings,
+    r: &TileRect,
+    s0: u32,
+    s1: u32,
+) -> TileOutput {
+    let mut tile = FilmTile::new(r.x0, r.y0, r.w, r.h);
+    let mut hits = vec![0u32; (r.w * r.h) as usize];
+    crate::integrator::wavefront::render_tile(
+        paths,
+        &camera.film(settings.width, settings.height),
+        settings.seed,
+        &mut tile,
+        (r.x0, r.y0, r.w, r.h),
+        s0,
+        s1,
+        &mut hits,
+    );
+    TileOutput {
+        film: tile,
+        aovs: Vec::new(),
+        hits,
+    }
 }
 
 fn render_tile(

@@ -32,6 +32,20 @@ pub fn count_ray() {
     });
 }
 
+/// Counts `n` rays.
+#[inline]
+pub fn count_rays(n: u64) {
+    LOCAL.with(|c| {
+        let m = c.get() + n;
+        if m >= FLUSH {
+            TOTAL.fetch_add(m, Ordering::Relaxed);
+            c.set(0);
+        } else {
+            c.set(m);
+        }
+    });
+}
+
 /// Rays traced by the whole process so far (to within `FLUSH` per thread).
 pub fn rays_traced() -> u64 {
     TOTAL.load(Ordering::Relaxed)

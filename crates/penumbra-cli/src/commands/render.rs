@@ -389,8 +389,13 @@ pub fn run(args: RenderArgs) -> Result<()> {
         String::new()
     };
     let resumed = resumed_at.map_or(String::new(), |n| format!(", resumed at sample {n}"));
+    let lanes = if out.wavefront {
+        ", 16 paths at a time"
+    } else {
+        ""
+    };
     eprintln!(
-        "penumbra: {} {}x{} at {} spp ({ended}{resumed}{part}) in {:.2} s (+{:.2} s BVH) -> {}",
+        "penumbra: {} {}x{} at {} spp ({ended}{resumed}{part}{lanes}) in {:.2} s (+{:.2} s BVH) -> {}",
         settings.integrator,
         identity.window.x.len(),
         identity.window.y.len(),

@@ -4,6 +4,7 @@ mod ao;
 mod local;
 mod path;
 mod surface;
+pub(crate) mod wavefront;
 mod whitted;
 
 pub use path::RadianceSink;

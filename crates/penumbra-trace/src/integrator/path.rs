@@ -22,7 +22,7 @@ use penumbra_shading::Rgb;
 use penumbra_shading::sampling::{Sampler, power_heuristic};
 
 /// Segments after which Russian roulette may end a path.
-const RR_START_DEPTH: u32 = 4;
+pub(crate) const RR_START_DEPTH: u32 = 4;
 
 /// Russian roulette's survival probability for a path of throughput
 /// `beta` that has crossed refractions with η² product `eta_scale`: the

@@ -1,0 +1,623 @@
+//! Path tracing with sixteen paths advanced together ("SIMD across
+//! paths", as Mitsuba 3's vectorised variants and wavefront GPU tracers
+//! do; Laine, Karras & Aila 2013, "Megakernels considered harmful"): each
+//! stage of a path segment (closest hit, emission, light sample, shadow
+//! ray, BSDF sample, Russian roulette) runs for all sixteen lanes before
+//! the next, its arithmetic written over 16-lane arrays so that the
+//! compiler turns it into AVX-512 instructions, and a lane whose path
+//! ends starts its pixel's next sample at once (its lanes stay busy).
+//!
+//! The estimator is [`super::path`]'s, operation for operation: next-event
+//! estimation and BSDF sampling weighted by the power heuristic, Russian
+//! roulette after [`RR_START_DEPTH`] segments, and every lane draws its
+//! numbers from its pixel's sampler in `path::li`'s order. So the image is
+//! the scalar integrator's up to rounding (relMSE between the two about
+//! 1e-5 at 64 spp on the Cornell box: a few paths part where a hit's
+//! rounding differs).
+//!
+//! Scope, checked by [`WavefrontScene::new`] (other scenes take the scalar
+//! integrator): the `path` integrator without AOVs; at most
+//! [`scan::MAX_TRIANGLES`] triangles, traced by testing every triangle
+//! ([`TriangleScan`]); Lambert surfaces with flat normals and without
+//! textures or vertex colours; light from emissive triangles only (no
+//! environment, abstract or analytic area lights); a CPU with AVX-512.
+//! `PENUMBRA_SCALAR_PATHS=1` (or [`crate::RenderOptions::scalar_paths`])
+//! keeps the scalar integrator for comparisons.
+//!
+//! One of the crate's modules with `unsafe` code: the AVX-512 entry point
+//! and table reads without bounds checks (a checked read's branch would
+//! keep a lane loop from vectorising).
+#![allow(unsafe_code)]
+// Lane loops index several structure-of-arrays fields by lane: the form
+// that vectorises plainly.
+#![allow(clippy::needless_range_loop)]
+
+use crate::accel::WatertightRay;
+use crate::accel::scan::{self, TriangleScan};
+use crate::geometry::SceneGeometry;
+use glam::Vec3;
+use penumbra_image::film::FilmTile;
+use penumbra_scene::{FilmRays, IntegratorKind, RenderSettings, Scene};
+use penumbra_shading::Frame;
+use penumbra_shading::bsdf::Bsdf;
+use penumbra_shading::color::luminance;
+use penumbra_shading::sampling::{Sampler, power_heuristic, square_to_cosine_hemisphere};
+use std::f32::consts::FRAC_1_PI;
+
+/// Paths in flight per group: one AVX-512 register of f32.
+pub(crate) const LANES: usize = 16;
+
+/// Segments after which Russian roulette may end a path (`path.rs`'s).
+use super::path::RR_START_DEPTH;
+
+type F = [f32; LANES];
+type B = [bool; LANES];
+
+/// What the lanes read of the scene: per triangle its corners, unit front
+/// normal, albedo, emission, sidedness, area and probability of being
+/// chosen as a light; the emissive triangles with their cumulative
+/// probabilities; the scan.
+#[derive(Debug)]
+pub(crate) struct WavefrontScene {
+    corners: Vec<[Vec3; 3]>,
+    normal: Vec<Vec3>,
+    albedo: Vec<Vec3>,
+    emission: Vec<Vec3>,
+    double_sided: Vec<bool>,
+    /// Light selection probability over area, per triangle (0 for a
+    /// non-emitter): a light sample's pdf is this × d² / |cos θ_light|.
+    pmf_per_area: Vec<f32>,
+    lights: Vec<u32>,
+    /// Cumulative selection probabilities of `lights`, the last 1.
+    cdf: Vec<f32>,
+    scan: TriangleScan,
+    max_depth: u32,
+}
+
+impl WavefrontScene {
+    /// The scene as the lanes read it, or `None` where the scene, the
+    /// settings or the CPU are outside this integrator's scope (see the
+    /// module's documentation).
+    pub(crate) fn new(
+        scene: &Scene,
+        geometry: &SceneGeometry,
+        settings: &RenderSettings,
+    ) -> Option<Self> {
+        #[cfg(target_arch = "x86_64")]
+        let cpu = std::arch::is_x86_feature_detected!("avx512f")
+            && std::arch::is_x86_feature_detected!("fma");
+        #[cfg(not(target_arch = "x86_64"))]
+        let cpu = false;
+        let n = geometry.triangles.len();
+        if !cpu
+            || settings.integrator != IntegratorKind::Path
+            || n == 0
+            || n > scan::MAX_TRIANGLES
+            || !scene.lights.is_empty()
+            || !scene.area_lights.is_empty()
+            || scene.environment_map.is_some()
+            || scene.background != Vec3::ZERO
+        {
+            return None;
+        }
+        let mut normal = Vec::with_capacity(n);
+        let mut albedo = Vec::with_capacity(n);
+        let mut emission = Vec::with_capacity(n);
+        let mut double_sided = Vec::with_capacity(n);
+        let mut lights = Vec::new();
+        let mut culls = Vec::with_capacity(n);
+        let mut weights = Vec::new();
+        for t in 0..n as u32 {
+            let m = &scene.materials[geometry.material_of(t)];
+            let Bsdf::Lambert(lambert) = m.bsdf else {
+                return None;
+            };
+            if m.albedo_texture.is_some()
+                || m.emission_texture.is_some()
+                || m.normal_map.is_some()
+                || m.alpha.is_some()
+            {
+                return None;
+            }
+            let ng = geometry.front_normal_scaled(t).normalize_or_zero();
+            // Flat and plain: the shading normal is the face's, and no
+            // vertex colour tints it, at every corner (so everywhere).
+            for (b1, b2) in [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)] {
+                let h = geometry.surface_point(scene, t, b1, b2);
+                if h.color != Vec3::ONE || h.ns != ng {
+                    return None;
+                }
+            }
+            let area = geometry.area(t);
+            normal.push(ng);
+            albedo.push(lambert.albedo);
+            emission.push(m.emission);
+            double_sided.push(m.double_sided);
+            culls.push(m.cull_back_faces);
+            // Chosen in proportion to emitted power, as `LightSampler`.
+            let w = luminance(m.emitted_power(area));
+            if m.is_emissive() && w > 0.0 && w.is_finite() && area > 0.0 {
+                lights.push(t);
+                weights.push(f64::from(w));
+            }
+        }
+        let total: f64 = weights.iter().sum();
+        if lights.is_empty() || !total.is_finite() {
+            return None;
+        }
+        let mut pmf_per_area = vec![0.0; n];
+        let mut cdf = Vec::with_capacity(lights.len());
+        let mut sum = 0.0;
+        for (&t, w) in lights.iter().zip(&weights) {
+            sum += w;
+            cdf.push((sum / total) as f32);
+            pmf_per_area[t as usize] = (w / total) as f32 / geometry.area(t);
+        }
+        *cdf.last_mut().expect("a light") = 1.0;
+        Some(WavefrontScene {
+            scan: TriangleScan::new(&geometry.triangles, &normal, &culls)?,
+            corners: geometry.triangles.clone(),
+            normal,
+            albedo,
+            emission,
+            double_sided,
+            pmf_per_area,
+            lights,
+            cdf,
+            max_depth: settings.max_depth,
+        })
+    }
+}
+
+/// Reads `v[k]` without a bounds check.
+///
+/// # Safety
+/// `k < v.len()`.
+#[inline(always)]
+unsafe fn at<T: Copy>(v: &[T], k: usize) -> T {
+    debug_assert!(k < v.len());
+    // SAFETY: the caller's contract.
+    unsafe { *v.get_unchecked(k) }
+}
+
+/// `ray::offset_ray_origin` for one coordinate, without branches (both
+/// cases computed, one chosen), so that a loop over lanes vectorises; the
+/// same bits.
+#[inline(always)]
+fn offset_coordinate(p: f32, n: f32) -> f32 {
+    const ORIGIN: f32 = 1.0 / 32.0;
+    const FLOAT_SCALE: f32 = 1.0 / 65536.0;
+    const INT_SCALE: f32 = 256.0;
+    let of_i = (INT_SCALE * n) as i32;
+    let bits = p.to_bits() as i32;
+    let moved = if p < 0.0 {
+        bits.wrapping_sub(of_i)
+    } else {
+        bits.wrapping_add(of_i)
+    };
+    if p.abs() < ORIGIN {
+        p + FLOAT_SCALE * n
+    } else {
+        f32::from_bits(moved as u32)
+    }
+}
+
+/// The paths of a group of pixels in flight, one per lane, in
+/// structure-of-arrays form (component, then lane).
+struct Paths {
+    /// The lane's path is alive (its ray is to be traced).
+    live: B,
+    /// The lane holds a path whose sample is not yet on the film.
+    in_flight: B,
+    next_sample: [u32; LANES],
+    origin: [F; 3],
+    dir: [F; 3],
+    radiance: [F; 3],
+    beta: [F; 3],
+    /// Solid-angle pdf of the BSDF sample that made the ray; 0 for a
+    /// camera ray (emitters it hits get weight 1).
+    prev_pdf: F,
+    prev_point: [F; 3],
+    depth: [u32; LANES],
+    camera_hit: B,
+}
+
+/// Sample indices `s0..s1` of every pixel of `pixels` (at most
+/// [`LANES`]), each with its sampler, onto `tile`; `hits` counts per
+/// pixel of the tile (row length `tile_w`, origin `tile_origin`) the
+/// samples whose camera ray met a surface.
+///
+/// # Safety
+/// The CPU must support AVX-512F and FMA (checked by
+/// [`WavefrontScene::new`]).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+#[allow(clippy::too_many_arguments)]
+unsafe fn trace_group(
+    s: &WavefrontScene,
+    film: &FilmRays,
+    pixels: &[(u32, u32)],
+    samplers: &mut [Sampler],
+    (s0, s1): (u32, u32),
+    tile: &mut FilmTile,
+    hits: &mut [u32],
+    (tile_origin, tile_w): ((u32, u32), u32),
+) {
+    let mut p = Paths {
+        live: [false; LANES],
+        in_flight: [false; LANES],
+        next_sample: [s0; LANES],
+        origin: [[0.0; LANES]; 3],
+        dir: [[0.0; LANES]; 3],
+        radiance: [[0.0; LANES]; 3],
+        beta: [[1.0; LANES]; 3],
+        prev_pdf: [0.0; LANES],
+        prev_point: [[0.0; LANES]; 3],
+        depth: [1; LANES],
+        camera_hit: [false; LANES],
+    };
+    loop {
+        // Lanes whose path ended hand in their sample and start their
+        // pixel's next one.
+        let mut any_live = false;
+        for i in 0..pixels.len() {
+            let (x, y) = pixels[i];
+            if p.in_flight[i] && !p.live[i] {
+                let v = Vec3::new(p.radiance[0][i], p.radiance[1][i], p.radiance[2][i]);
+                // As `render_tile`: one bad sample must not ruin a pixel.
+                tile.add_sample(x, y, if v.is_finite() { v } else { Vec3::ZERO });
+                if p.camera_hit[i] {
+                    let (x0, y0) = tile_origin;
+                    hits[((y - y0) * tile_w + (x - x0)) as usize] += 1;
+                }
+                p.in_flight[i] = false;
+            }
+            if !p.in_flight[i] && p.next_sample[i] < s1 {
+                let sampler = &mut samplers[i];
+                sampler.start_sample(p.next_sample[i]);
+                p.next_sample[i] += 1;
+                let [jx, jy] = sampler.next_2d();
+                let (o, d) = film.ray(x as f32 + jx, y as f32 + jy);
+                for a in 0..3 {
+                    p.origin[a][i] = o[a];
+                    p.dir[a][i] = d[a];
+                    p.prev_point[a][i] = o[a];
+                    p.radiance[a][i] = 0.0;
+                    p.beta[a][i] = 1.0;
+                }
+                p.prev_pdf[i] = 0.0;
+                p.depth[i] = 1;
+                p.camera_hit[i] = false;
+                p.live[i] = true;
+                p.in_flight[i] = true;
+            }
+            any_live |= p.live[i];
+        }
+        if !any_live {
+            return;
+        }
+        segment(s, &mut p, samplers);
+    }
+}
+
+/// One segment of every live path: its closest hit, the emission found
+/// there, a light sample with its shadow ray, and the BSDF sample that
+/// makes the next ray (or the path's end).
+#[inline(always)]
+fn segment(s: &WavefrontScene, p: &mut Paths, samplers: &mut [Sampler]) {
+    // Closest hits, lane by lane (each scan tests 16 triangles at once).
+    let mut tri = [0u32; LANES];
+    let mut bary = [[0.0f32; LANES]; 2];
+    let mut rays = 0;
+    for i in 0..LANES {
+        if !p.live[i] {
+            continue;
+        }
+        rays += 1;
+        let o = Vec3::new(p.origin[0][i], p.origin[1][i], p.origin[2][i]);
+        let d = Vec3::new(p.dir[0][i], p.dir[1][i], p.dir[2][i]);
+        let ray = WatertightRay::new(o, d);
+        // SAFETY: AVX-512F (`trace_group`'s contract).
+        match unsafe {
+            s.scan
+                .closest_avx512(&ray, d, f32::INFINITY, p.depth[i] == 1)
+        } {
+            Some((t, h)) => {
+                tri[i] = t;
+                bary[0][i] = h.b1;
+                bary[1][i] = h.b2;
+                p.camera_hit[i] |= p.depth[i] == 1;
+            }
+            None => p.live[i] = false,
+        }
+    }
+    crate::stats::count_rays(rays);
+    // The hits' surfaces, gathered lane by lane (dead lanes read
+    // triangle 0, whose values no live result uses).
+    let mut point = [[0.0f32; LANES]; 3];
+    let mut ng = [[0.0f32; LANES]; 3];
+    let mut albedo = [[0.0f32; LANES]; 3];
+    let mut emitted = [[0.0f32; LANES]; 3];
+    let mut pmf_per_area = [0.0f32; LANES];
+    let mut two_sided = [false; LANES];
+    for i in 0..LANES {
+        let k = if p.live[i] { tri[i] as usize } else { 0 };
+        // SAFETY: k is a triangle index; the tables have one entry each.
+        let (c, n, al, e) = unsafe {
+            pmf_per_area[i] = at(&s.pmf_per_area, k);
+            two_sided[i] = at(&s.double_sided, k);
+            (
+                at(&s.corners, k),
+                at(&s.normal, k),
+                at(&s.albedo, k),
+                at(&s.emission, k),
+            )
+        };
+        let (b1, b2) = (bary[0][i], bary[1][i]);
+        // Interpolating the corners is more accurate than o + t d.
+        let q = c[0] * (1.0 - b1 - b2) + c[1] * b1 + c[2] * b2;
+        for a in 0..3 {
+            point[a][i] = q[a];
+            ng[a][i] = n[a];
+            albedo[a][i] = al[a];
+            emitted[a][i] = e[a];
+        }
+    }
+    // Emission reached by this segment, weighted against next-event
+    // estimation; the normal turned towards the ray's origin.
+    for i in 0..LANES {
+        let dn = p.dir[0][i] * ng[0][i] + p.dir[1][i] * ng[1][i] + p.dir[2][i] * ng[2][i];
+        let front = dn < 0.0;
+        let emits = p.live[i] & (two_sided[i] | front);
+        let mut dist2 = 0.0;
+        for a in 0..3 {
+            let d = point[a][i] - p.prev_point[a][i];
+            dist2 += d * d;
+        }
+        let cos = dn.abs();
+        let light_pdf = if cos > 1e-7 {
+            pmf_per_area[i] * dist2 / cos
+        } else {
+            0.0
+        };
+        let weight = if p.prev_pdf[i] > 0.0 {
+            power_heuristic(p.prev_pdf[i], light_pdf)
+        } else {
+            1.0
+        };
+        for a in 0..3 {
+            let add = p.beta[a][i] * emitted[a][i] * weight;
+            // A select, not a product with 0: a dead lane's values may be
+            // NaN.
+            p.radiance[a][i] += if emits { add } else { 0.0 };
+            ng[a][i] = if front { ng[a][i] } else { -ng[a][i] };
+        }
+        // One-sided surfaces are black from behind; black ones reflect
+        // nothing (a path ends there as `path::li`'s would add nothing).
+        let black = (albedo[0][i] == 0.0) & (albedo[1][i] == 0.0) & (albedo[2][i] == 0.0);
+        p.live[i] &= (front | two_sided[i]) & !black & (p.depth[i] < s.max_depth);
+    }
+    // Next-event estimation, its numbers drawn as `path::next_event` draws
+    // them.
+    let mut u_select = [0.0f32; LANES];
+    let mut u_light = [[0.0f32; LANES]; 2];
+    for i in 0..LANES {
+        if p.live[i] {
+            u_select[i] = samplers[i].next_1d();
+            [u_light[0][i], u_light[1][i]] = samplers[i].next_2d();
+        }
+    }
+    let mut lc = [[[0.0f32; LANES]; 3]; 3];
+    let mut ln = [[0.0f32; LANES]; 3];
+    let mut le = [[0.0f32; LANES]; 3];
+    let mut l_pmf_per_area = [0.0f32; LANES];
+    let mut l_two_sided = [false; LANES];
+    let last = s.cdf.len() - 1;
+    for i in 0..LANES {
+        // The light: the first whose cumulative probability exceeds u.
+        let mut j = 0;
+        for &c in &s.cdf[..last] {
+            j += (u_select[i] >= c) as usize;
+        }
+        // SAFETY: j ≤ last < lights.len(); lights are triangle indices.
+        unsafe {
+            let k = at(&s.lights, j) as usize;
+            let c = at(&s.corners, k);
+            let (n, e) = (at(&s.normal, k), at(&s.emission, k));
+            for a in 0..3 {
+                for (v, corner) in c.iter().enumerate() {
+                    lc[v][a][i] = corner[a];
+                }
+                ln[a][i] = n[a];
+                le[a][i] = e[a];
+            }
+            l_pmf_per_area[i] = at(&s.pmf_per_area, k);
+            l_two_sided[i] = at(&s.double_sided, k);
+        }
+    }
+    let mut shadow_origin = [[0.0f32; LANES]; 3];
+    let mut wi = [[0.0f32; LANES]; 3];
+    let mut shadow_tmax = [0.0f32; LANES];
+    let mut shadow = [false; LANES];
+    let mut contribution = [[0.0f32; LANES]; 3];
+    for i in 0..LANES {
+        // A uniform point of the triangle (`square_to_triangle`; max and
+        // min for b1, not `clamp`, whose check of its variable bounds
+        // would keep the loop from vectorising).
+        let (u0, u1) = (u_light[0][i], u_light[1][i]);
+        let upper = u1 > u0;
+        let half = if upper { u0 * 0.5 } else { u1 * 0.5 };
+        let b0 = (if upper { half } else { u0 - half }).clamp(0.0, 1.0);
+        let b1 = (if upper { u1 - half } else { half })
+            .max(0.0)
+            .min(1.0 - b0);
+        let mut d = [0.0f32; 3];
+        for a in 0..3 {
+            let q = lc[0][a][i] * (1.0 - b0 - b1) + lc[1][a][i] * b0 + lc[2][a][i] * b1;
+            d[a] = q - point[a][i];
+        }
+        let dist2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+        let dist = dist2.sqrt();
+        let w = d.map(|c| c / dist);
+        let cos_light = -(w[0] * ln[0][i] + w[1] * ln[1][i] + w[2] * ln[2][i]);
+        let lit_side = (cos_light > 0.0) | l_two_sided[i];
+        let cos_light = cos_light.abs();
+        let cos = w[0] * ng[0][i] + w[1] * ng[1][i] + w[2] * ng[2][i];
+        let ok = p.live[i] & (dist2 > 0.0) & lit_side & (cos_light > 1e-7) & (cos > 0.0);
+        // Area density → solid angle, with the selection: pdf = P(light)
+        // d² / (A |cos θ_light|).
+        let pdf = l_pmf_per_area[i] * dist2 / cos_light;
+        let weight = power_heuristic(pdf, cos * FRAC_1_PI);
+        // f cos / pdf with f = albedo / π.
+        let scale = if ok {
+            cos * FRAC_1_PI * weight / pdf
+        } else {
+            0.0
+        };
+        for a in 0..3 {
+            contribution[a][i] = p.beta[a][i] * albedo[a][i] * le[a][i] * scale;
+            shadow_origin[a][i] = offset_coordinate(point[a][i], ng[a][i]);
+            wi[a][i] = w[a];
+        }
+        // Stop just short of the light, as `TraceContext::visible`.
+        shadow_tmax[i] = dist * (1.0 - 1e-4);
+        shadow[i] = ok;
+    }
+    let mut rays = 0;
+    for i in 0..LANES {
+        if !shadow[i] {
+            continue;
+        }
+        rays += 1;
+        let o = Vec3::new(
+            shadow_origin[0][i],
+            shadow_origin[1][i],
+            shadow_origin[2][i],
+        );
+        let ray = WatertightRay::new(o, Vec3::new(wi[0][i], wi[1][i], wi[2][i]));
+        if s.scan.occluded(&ray, shadow_tmax[i]) {
+            shadow[i] = false;
+        }
+    }
+    crate::stats::count_rays(rays);
+    for i in 0..LANES {
+        for a in 0..3 {
+            p.radiance[a][i] += if shadow[i] { contribution[a][i] } else { 0.0 };
+        }
+    }
+    // BSDF sampling (cosine-weighted; the lobe number is drawn and unused,
+    // as Lambert's `sample` leaves it), then Russian roulette.
+    let mut u_bsdf = [[0.0f32; LANES]; 2];
+    let mut u_rr = [0.0f32; LANES];
+    for i in 0..LANES {
+        p.depth[i] += 1;
+        if p.live[i] {
+            let _lobe = samplers[i].next_1d();
+            [u_bsdf[0][i], u_bsdf[1][i]] = samplers[i].next_2d();
+            if p.depth[i] > RR_START_DEPTH {
+                u_rr[i] = samplers[i].next_1d();
+            }
+        }
+    }
+    for i in 0..LANES {
+        let local = square_to_cosine_hemisphere([u_bsdf[0][i], u_bsdf[1][i]]);
+        let n = Vec3::new(ng[0][i], ng[1][i], ng[2][i]);
+        let w = Frame::from_normal(n).to_world(local);
+        // On the normal's side, as `TraceContext::consistent_side`.
+        let mut alive = p.live[i] & (local.z > 0.0) & (w.dot(n) > 0.0);
+        for a in 0..3 {
+            p.beta[a][i] *= albedo[a][i];
+        }
+        let q = if p.depth[i] > RR_START_DEPTH {
+            // `path::rr_survival` (η = 1 on Lambert surfaces).
+            p.beta[0][i].max(p.beta[1][i]).max(p.beta[2][i]).min(0.95)
+        } else {
+            1.0
+        };
+        alive &= u_rr[i] < q;
+        for a in 0..3 {
+            p.beta[a][i] /= q;
+            p.origin[a][i] = offset_coordinate(point[a][i], n[a]);
+            p.dir[a][i] = w[a];
+            p.prev_point[a][i] = point[a][i];
+        }
+        p.prev_pdf[i] = local.z * FRAC_1_PI;
+        p.live[i] = alive;
+    }
+}
+
+/// Sample indices `s0..s1` of the tile `(x0, y0, w, h)`'s pixels onto
+/// `tile`, [`LANES`] pixels a group; `hits` counts per pixel the samples
+/// whose camera ray met a surface.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn render_tile(
+    s: &WavefrontScene,
+    film: &FilmRays,
+    seed: u32,
+    tile: &mut FilmTile,
+    (x0, y0, w, h): (u32, u32, u32, u32),
+    s0: u32,
+    s1: u32,
+    hits: &mut [u32],
+) {
+    let pixels: Vec<(u32, u32)> = (y0..y0 + h)
+        .flat_map(|y| (x0..x0 + w).map(move |x| (x, y)))
+        .collect();
+    for group in pixels.chunks(LANES) {
+        // One sampler per pixel, as `render_tile`'s scalar loop.
+        let mut samplers: Vec<Sampler> = group
+            .iter()
+            .map(|&(x, y)| Sampler::for_pixel(x, y, seed))
+            .collect();
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: `WavefrontScene::new` checked the CPU's features.
+        unsafe {
+            trace_group(
+                s,
+                film,
+                group,
+                &mut samplers,
+                (s0, s1),
+                tile,
+                hits,
+                ((x0, y0), w),
+            );
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ray::offset_ray_origin;
+    use penumbra_shading::stats::TestRng;
+
+    /// The branch-free offset gives `offset_ray_origin`'s bits, on both
+    /// sides of its small-coordinate threshold and for both signs.
+    #[test]
+    fn offset_coordinate_matches_offset_ray_origin() {
+        let mut rng = TestRng::new(3);
+        for _ in 0..100_000 {
+            let scale = [1e-3, 0.03, 0.04, 1.0, 1e3][(rng.next_u64() % 5) as usize];
+            let p = Vec3::new(
+                (rng.next_f32() * 2.0 - 1.0) * scale,
+                (rng.next_f32() * 2.0 - 1.0) * scale,
+                (rng.next_f32() * 2.0 - 1.0) * scale,
+            );
+            let n = Vec3::new(
+                rng.next_f32() - 0.5,
+                rng.next_f32() - 0.5,
+                rng.next_f32() - 0.5,
+            )
+            .normalize();
+            let expected = offset_ray_origin(p, n);
+            for a in 0..3 {
+                assert_eq!(
+                    offset_coordinate(p[a], n[a]).to_bits(),
+                    expected[a].to_bits(),
+                    "p {p}, n {n}"
+                );
+            }
+        }
+    }
+}
