@@ -21,15 +21,7 @@ thread_local! {
 /// Counts one ray.
 #[inline]
 pub fn count_ray() {
-    LOCAL.with(|c| {
-        let n = c.get() + 1;
-        if n >= FLUSH {
-            TOTAL.fetch_add(n, Ordering::Relaxed);
-            c.set(0);
-        } else {
-            c.set(n);
-        }
-    });
+    count_rays(1);
 }
 
 /// Counts `n` rays.

@@ -35,6 +35,7 @@
 use crate::accel::WatertightRay;
 use crate::accel::scan::{self, TriangleScan};
 use crate::geometry::SceneGeometry;
+use crate::ray::offset_coordinate;
 use glam::Vec3;
 use penumbra_image::film::FilmTile;
 use penumbra_scene::{FilmRays, IntegratorKind, RenderSettings, Scene};
@@ -47,7 +48,7 @@ use std::f32::consts::FRAC_1_PI;
 /// Paths in flight per group: one AVX-512 register of f32.
 pub(crate) const LANES: usize = 16;
 
-/// Segments after which Russian roulette may end a path (`path.rs`'s).
+// Segments after which Russian roulette may end a path: `path.rs`'s.
 use super::path::RR_START_DEPTH;
 
 type F = [f32; LANES];
@@ -83,9 +84,21 @@ impl WavefrontScene {
         geometry: &SceneGeometry,
         settings: &RenderSettings,
     ) -> Option<Self> {
+        // Every feature `trace_group` is compiled for.
         #[cfg(target_arch = "x86_64")]
-        let cpu = std::arch::is_x86_feature_detected!("avx512f")
-            && std::arch::is_x86_feature_detected!("fma");
+        let cpu = {
+            use std::arch::is_x86_feature_detected as has;
+            has!("avx512f")
+                && has!("avx512vl")
+                && has!("avx512dq")
+                && has!("avx512bw")
+                && has!("avx2")
+                && has!("fma")
+                && has!("bmi1")
+                && has!("bmi2")
+                && has!("lzcnt")
+                && has!("popcnt")
+        };
         #[cfg(not(target_arch = "x86_64"))]
         let cpu = false;
         let n = geometry.triangles.len();
@@ -180,28 +193,6 @@ unsafe fn at<T: Copy>(v: &[T], k: usize) -> T {
     unsafe { *v.get_unchecked(k) }
 }
 
-/// `ray::offset_ray_origin` for one coordinate, without branches (both
-/// cases computed, one chosen), so that a loop over lanes vectorises; the
-/// same bits.
-#[inline(always)]
-fn offset_coordinate(p: f32, n: f32) -> f32 {
-    const ORIGIN: f32 = 1.0 / 32.0;
-    const FLOAT_SCALE: f32 = 1.0 / 65536.0;
-    const INT_SCALE: f32 = 256.0;
-    let of_i = (INT_SCALE * n) as i32;
-    let bits = p.to_bits() as i32;
-    let moved = if p < 0.0 {
-        bits.wrapping_sub(of_i)
-    } else {
-        bits.wrapping_add(of_i)
-    };
-    if p.abs() < ORIGIN {
-        p + FLOAT_SCALE * n
-    } else {
-        f32::from_bits(moved as u32)
-    }
-}
-
 /// The paths of a group of pixels in flight, one per lane, in
 /// structure-of-arrays form (component, then lane).
 struct Paths {
@@ -228,7 +219,7 @@ struct Paths {
 /// samples whose camera ray met a surface.
 ///
 /// # Safety
-/// The CPU must support AVX-512F and FMA (checked by
+/// The CPU must support the features it is compiled for (checked by
 /// [`WavefrontScene::new`]).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
@@ -582,42 +573,6 @@ pub(crate) fn render_tile(
                 hits,
                 ((x0, y0), w),
             );
-        }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::ray::offset_ray_origin;
-    use penumbra_shading::stats::TestRng;
-
-    /// The branch-free offset gives `offset_ray_origin`'s bits, on both
-    /// sides of its small-coordinate threshold and for both signs.
-    #[test]
-    fn offset_coordinate_matches_offset_ray_origin() {
-        let mut rng = TestRng::new(3);
-        for _ in 0..100_000 {
-            let scale = [1e-3, 0.03, 0.04, 1.0, 1e3][(rng.next_u64() % 5) as usize];
-            let p = Vec3::new(
-                (rng.next_f32() * 2.0 - 1.0) * scale,
-                (rng.next_f32() * 2.0 - 1.0) * scale,
-                (rng.next_f32() * 2.0 - 1.0) * scale,
-            );
-            let n = Vec3::new(
-                rng.next_f32() - 0.5,
-                rng.next_f32() - 0.5,
-                rng.next_f32() - 0.5,
-            )
-            .normalize();
-            let expected = offset_ray_origin(p, n);
-            for a in 0..3 {
-                assert_eq!(
-                    offset_coordinate(p[a], n[a]).to_bits(),
-                    expected[a].to_bits(),
-                    "p {p}, n {n}"
-                );
-            }
         }
     }
 }
