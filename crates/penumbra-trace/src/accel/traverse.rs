@@ -18,9 +18,11 @@
 //! The traversal is a [`Walk`] advanced one node or leaf at a time, so that
 //! [`closest_many`] can interleave several rays' walks on one thread.
 //!
-//! One of the crate's five modules with `unsafe` code (the others are
+//! One of the crate's seven modules with `unsafe` code (the others are
 //! `block.rs`, for its AVX intrinsics, `packet.rs` and `frustum.rs`, for
-//! their AVX2 and AVX-512 box tests, and `huge_pages.rs`, for `madvise`):
+//! their AVX2 and AVX-512 box tests, `scan.rs`, for its AVX-512
+//! triangle scan, `integrator/wavefront.rs`, for its AVX-512 lanes, and
+//! `huge_pages.rs`, for `madvise`):
 //! calling the AVX2 functions (after the CPU check) and the uninitialised
 //! traversal stack (zeroing 2 KB per ray would cost more than a node
 //! test).
