@@ -21,6 +21,7 @@
 
 use super::watertight::{TriangleHit, WatertightRay};
 use glam::{Vec3, Vec3A};
+use std::arch::x86_64::*;
 
 /// Triangles per chunk: one 16-lane register.
 const LANES: usize = 16;
@@ -32,13 +33,15 @@ type Lanes = [f32; LANES];
 
 /// [`LANES`] triangles in structure-of-arrays form: corners
 /// (`[corner][axis][lane]`), unit front normals, whether rays that cull
-/// back faces pass through their back, and which lanes hold a triangle.
+/// back faces pass through their back and which lanes hold a triangle (bit
+/// masks); 64-byte aligned, so that each array is one aligned load.
 #[derive(Clone, Copy, Debug)]
+#[repr(C, align(64))]
 struct Chunk {
     corners: [[Lanes; 3]; 3],
     normal: [Lanes; 3],
-    culls: [bool; LANES],
-    used: [bool; LANES],
+    culls: u16,
+    used: u16,
 }
 
 /// The scene's triangles in chunks.
@@ -47,15 +50,14 @@ pub struct TriangleScan {
     chunks: Vec<Chunk>,
 }
 
-/// The watertight test's quantities of a chunk's triangles for one ray.
+/// The watertight test's quantities of a chunk's triangles for one ray,
+/// one lane a triangle.
 struct Edges {
-    u: Lanes,
-    v: Lanes,
-    w: Lanes,
-    t_scaled: Lanes,
-    det: Lanes,
-    /// Lanes holding a triangle whose edge functions include a 0.
-    zero: [bool; LANES],
+    u: __m512,
+    v: __m512,
+    w: __m512,
+    t_scaled: __m512,
+    det: __m512,
 }
 
 impl TriangleScan {
@@ -72,8 +74,8 @@ impl TriangleScan {
                 chunks.push(Chunk {
                     corners: [[[0.0; LANES]; 3]; 3],
                     normal: [[0.0; LANES]; 3],
-                    culls: [false; LANES],
-                    used: [false; LANES],
+                    culls: 0,
+                    used: 0,
                 });
             }
             let chunk = chunks.last_mut().expect("pushed above");
@@ -86,8 +88,8 @@ impl TriangleScan {
             for a in 0..3 {
                 chunk.normal[a][lane] = normals[k][a];
             }
-            chunk.culls[lane] = culls[k];
-            chunk.used[lane] = true;
+            chunk.culls |= u16::from(culls[k]) << lane;
+            chunk.used |= 1 << lane;
         }
         Some(TriangleScan { chunks })
     }
@@ -104,55 +106,104 @@ impl TriangleScan {
     }
 
     /// The edge functions and scaled distances of a chunk's triangles for
-    /// `ray`, with the f64 fallback's lanes done by the scalar test.
+    /// `ray`, with the f64 fallback's lanes done by the scalar test: the
+    /// operations of `WatertightRay::intersect_a`, in its order (no fused
+    /// multiply-adds, so the same roundings), sixteen lanes at once.
+    ///
+    /// # Safety
+    /// The CPU must support AVX-512F.
     #[inline(always)]
-    fn edges(chunk: &Chunk, ray: &WatertightRay, tmax: f32) -> Edges {
+    unsafe fn edges(chunk: &Chunk, ray: &WatertightRay, tmax: f32) -> Edges {
         let [kx, ky, kz] = ray.permutation();
         let [ox, oy, oz] = ray.origin_permuted();
         let [sx, sy, sz] = ray.shear();
-        let mut e = Edges {
-            u: [0.0; LANES],
-            v: [0.0; LANES],
-            w: [0.0; LANES],
-            t_scaled: [0.0; LANES],
-            det: [0.0; LANES],
-            zero: [false; LANES],
+        // SAFETY: AVX-512F (the caller's contract); every load reads one
+        // 16-lane array of the chunk.
+        // SAFETY: AVX-512F (the caller's contract); every load reads one
+        // 16-lane array of the chunk.
+        let e = unsafe {
+            let o = [_mm512_set1_ps(ox), _mm512_set1_ps(oy), _mm512_set1_ps(oz)];
+            let s = [_mm512_set1_ps(sx), _mm512_set1_ps(sy), _mm512_set1_ps(sz)];
+            let [kx, ky, kz] =
+                [kx, ky, kz].map(|a| [0, 1, 2].map(|c| chunk.corners[c][a].as_ptr()));
+            let (ax, ay, az) = sheared(kx[0], ky[0], kz[0], o, s);
+            let (bx, by, bz) = sheared(kx[1], ky[1], kz[1], o, s);
+            let (cx, cy, cz) = sheared(kx[2], ky[2], kz[2], o, s);
+            let u = _mm512_sub_ps(_mm512_mul_ps(cx, by), _mm512_mul_ps(cy, bx));
+            let v = _mm512_sub_ps(_mm512_mul_ps(ax, cy), _mm512_mul_ps(ay, cx));
+            let w = _mm512_sub_ps(_mm512_mul_ps(bx, ay), _mm512_mul_ps(by, ax));
+            let t_scaled = _mm512_add_ps(
+                _mm512_add_ps(_mm512_mul_ps(u, az), _mm512_mul_ps(v, bz)),
+                _mm512_mul_ps(w, cz),
+            );
+            let det = _mm512_add_ps(_mm512_add_ps(u, v), w);
+            Edges {
+                u,
+                v,
+                w,
+                t_scaled,
+                det,
+            }
         };
-        let [p0, p1, p2] = &chunk.corners;
-        for l in 0..LANES {
-            // The sheared corners, as `WatertightRay::intersect_a`.
-            let (az, bz, cz) = (p0[kz][l] - oz, p1[kz][l] - oz, p2[kz][l] - oz);
-            let ax = (p0[kx][l] - ox) - sx * az;
-            let ay = (p0[ky][l] - oy) - sy * az;
-            let bx = (p1[kx][l] - ox) - sx * bz;
-            let by = (p1[ky][l] - oy) - sy * bz;
-            let cx = (p2[kx][l] - ox) - sx * cz;
-            let cy = (p2[ky][l] - oy) - sy * cz;
-            let (az, bz, cz) = (sz * az, sz * bz, sz * cz);
-            let u = cx * by - cy * bx;
-            let v = ax * cy - ay * cx;
-            let w = bx * ay - by * ax;
-            e.zero[l] = ((u == 0.0) | (v == 0.0) | (w == 0.0)) & chunk.used[l];
-            e.u[l] = u;
-            e.v[l] = v;
-            e.w[l] = w;
-            e.t_scaled[l] = u * az + v * bz + w * cz;
-            e.det[l] = u + v + w;
+        // SAFETY: as above.
+        let zero = unsafe {
+            let z = _mm512_setzero_ps();
+            (_mm512_cmp_ps_mask::<_CMP_EQ_OQ>(e.u, z)
+                | _mm512_cmp_ps_mask::<_CMP_EQ_OQ>(e.v, z)
+                | _mm512_cmp_ps_mask::<_CMP_EQ_OQ>(e.w, z))
+                & chunk.used
+        };
+        if zero == 0 {
+            e
+        } else {
+            // SAFETY: as above.
+            unsafe { Self::edges_by_scalar_test(chunk, ray, tmax, e, zero) }
         }
-        if !e.zero.iter().any(|&z| z) {
-            return e;
+    }
+
+    /// `e` with the lanes of `zero` (edge functions with a 0) decided by
+    /// the scalar test: a hit as edge functions (1, b1, b2) with det 1 (so
+    /// t_scaled = t), a miss as det 0.
+    ///
+    /// # Safety
+    /// The CPU must support AVX-512F.
+    #[cold]
+    #[inline(never)]
+    unsafe fn edges_by_scalar_test(
+        chunk: &Chunk,
+        ray: &WatertightRay,
+        tmax: f32,
+        e: Edges,
+        zero: u16,
+    ) -> Edges {
+        let mut lanes = [[0.0f32; LANES]; 5];
+        // SAFETY: AVX-512F (the caller's contract); 16 f32 out and in.
+        unsafe {
+            for (out, x) in lanes.iter_mut().zip([e.u, e.v, e.w, e.t_scaled, e.det]) {
+                _mm512_storeu_ps(out.as_mut_ptr(), x);
+            }
         }
-        for l in (0..LANES).filter(|&l| e.zero[l]) {
+        for l in (0..LANES).filter(|&l| zero & (1 << l) != 0) {
             let [a, b, c] = Self::triangle(chunk, l);
-            // The scalar test decides the lane: a hit as edge functions
-            // (1, b1, b2) with det 1 (so t_scaled = t), a miss as det 0.
-            (e.u[l], e.v[l], e.w[l], e.t_scaled[l], e.det[l]) = match ray.intersect_a(a, b, c, tmax)
-            {
-                Some(h) => (1.0, h.b1, h.b2, h.t, 1.0),
-                None => (0.0, 0.0, 0.0, 0.0, 0.0),
+            let decided = match ray.intersect_a(a, b, c, tmax) {
+                Some(h) => [1.0, h.b1, h.b2, h.t, 1.0],
+                None => [0.0; 5],
             };
+            for (out, x) in lanes.iter_mut().zip(decided) {
+                out[l] = x;
+            }
         }
-        e
+        // SAFETY: as above.
+        unsafe {
+            let load = |k: usize| _mm512_loadu_ps(lanes[k].as_ptr());
+            Edges {
+                u: load(0),
+                v: load(1),
+                w: load(2),
+                t_scaled: load(3),
+                det: load(4),
+            }
+        }
     }
 
     /// The closest hit of `ray` (direction `d`) in (0, `tmax`): triangle
@@ -170,99 +221,162 @@ impl TriangleScan {
         tmax: f32,
         camera: bool,
     ) -> Option<(u32, TriangleHit)> {
-        use std::arch::x86_64::*;
-        // Per lane, the nearest hit among that lane's triangles of all
-        // chunks: no distance is carried from chunk to chunk, so their
-        // tests overlap; one reduction at the end.
-        let mut near = [f32::INFINITY; LANES];
-        let mut near_chunk = [0u32; LANES];
-        let mut near_v = [0.0f32; LANES];
-        let mut near_w = [0.0f32; LANES];
-        let mut near_det = [1.0f32; LANES];
-        for (c, chunk) in self.chunks.iter().enumerate() {
-            let e = Self::edges(chunk, ray, tmax);
-            // 1/det from the 14-bit estimate and one Newton step: within
-            // about an ulp, it only ranks the hits (the chosen one's
-            // barycentrics are divided exactly below).
-            // SAFETY: AVX-512F (the caller's contract); 16 f32 in and out.
-            let inv: Lanes = unsafe {
-                let det = _mm512_loadu_ps(e.det.as_ptr());
-                let r = _mm512_rcp14_ps(det);
-                let r = _mm512_mul_ps(r, _mm512_fnmadd_ps(det, r, _mm512_set1_ps(2.0)));
-                std::mem::transmute::<__m512, Lanes>(r)
-            };
-            for l in 0..LANES {
-                let facing =
-                    chunk.normal[0][l] * d.x + chunk.normal[1][l] * d.y + chunk.normal[2][l] * d.z;
-                let culled = camera & chunk.culls[l] & (facing > 0.0);
-                let ok = chunk.used[l]
-                    & !culled
-                    & accepts(e.u[l], e.v[l], e.w[l], e.t_scaled[l], e.det[l], tmax);
-                let t = e.t_scaled[l] * inv[l];
-                let closer = ok & (t < near[l]);
-                near[l] = if closer { t } else { near[l] };
-                near_chunk[l] = if closer { c as u32 } else { near_chunk[l] };
-                near_v[l] = if closer { e.v[l] } else { near_v[l] };
-                near_w[l] = if closer { e.w[l] } else { near_w[l] };
-                near_det[l] = if closer { e.det[l] } else { near_det[l] };
+        // SAFETY: AVX-512F (the caller's contract); the loads read the
+        // chunks' 16-lane arrays, the stores 16-lane locals.
+        unsafe {
+            // Per lane, the nearest hit among that lane's triangles of all
+            // chunks: no distance is carried from chunk to chunk, so their
+            // tests overlap; one reduction at the end.
+            let mut near = _mm512_set1_ps(f32::INFINITY);
+            let mut near_chunk = _mm512_setzero_si512();
+            let mut near_v = _mm512_setzero_ps();
+            let mut near_w = _mm512_setzero_ps();
+            let mut near_det = _mm512_set1_ps(1.0);
+            let (dx, dy, dz) = (
+                _mm512_set1_ps(d.x),
+                _mm512_set1_ps(d.y),
+                _mm512_set1_ps(d.z),
+            );
+            let vtmax = _mm512_set1_ps(tmax);
+            for (c, chunk) in self.chunks.iter().enumerate() {
+                let e = Self::edges(chunk, ray, tmax);
+                // 1/det from the 14-bit estimate and one Newton step: within
+                // about an ulp, it only ranks the hits (the chosen one's
+                // barycentrics are divided exactly below).
+                let r = _mm512_rcp14_ps(e.det);
+                let inv = _mm512_mul_ps(r, _mm512_fnmadd_ps(e.det, r, _mm512_set1_ps(2.0)));
+                let mut ok = chunk.used & accepts(&e, vtmax);
+                if camera {
+                    let [nx, ny, nz] = &chunk.normal;
+                    let facing = _mm512_add_ps(
+                        _mm512_add_ps(
+                            _mm512_mul_ps(_mm512_load_ps(nx.as_ptr()), dx),
+                            _mm512_mul_ps(_mm512_load_ps(ny.as_ptr()), dy),
+                        ),
+                        _mm512_mul_ps(_mm512_load_ps(nz.as_ptr()), dz),
+                    );
+                    let culled =
+                        chunk.culls & _mm512_cmp_ps_mask::<_CMP_GT_OQ>(facing, _mm512_setzero_ps());
+                    ok &= !culled;
+                }
+                let t = _mm512_mul_ps(e.t_scaled, inv);
+                let closer = _mm512_mask_cmp_ps_mask::<_CMP_LT_OQ>(ok, t, near);
+                near = _mm512_mask_blend_ps(closer, near, t);
+                near_chunk =
+                    _mm512_mask_blend_epi32(closer, near_chunk, _mm512_set1_epi32(c as i32));
+                near_v = _mm512_mask_blend_ps(closer, near_v, e.v);
+                near_w = _mm512_mask_blend_ps(closer, near_w, e.w);
+                near_det = _mm512_mask_blend_ps(closer, near_det, e.det);
             }
+            let t = _mm512_reduce_min_ps(near);
+            if t.is_nan() || t >= tmax {
+                return None;
+            }
+            // Of equal distances, the lowest triangle index (chunk × 16 +
+            // lane), found without a loop over the lanes.
+            let lanes = _mm512_cmp_ps_mask::<_CMP_EQ_OQ>(near, _mm512_set1_ps(t));
+            let index = _mm512_add_epi32(
+                _mm512_slli_epi32::<4>(near_chunk),
+                _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15),
+            );
+            let k = _mm512_mask_reduce_min_epu32(lanes, index);
+            let lane = _mm512_set1_epi32((k % LANES as u32) as i32);
+            // (Written out: intrinsics in closures would not be inlined.)
+            let v = _mm512_cvtss_f32(_mm512_permutexvar_ps(lane, near_v));
+            let w = _mm512_cvtss_f32(_mm512_permutexvar_ps(lane, near_w));
+            let det = _mm512_cvtss_f32(_mm512_permutexvar_ps(lane, near_det));
+            let inv = 1.0 / det;
+            Some((
+                k,
+                TriangleHit {
+                    t,
+                    b1: v * inv,
+                    b2: w * inv,
+                },
+            ))
         }
-        // SAFETY: AVX-512F (the caller's contract); 16 f32 in.
-        let (t, lanes) = unsafe {
-            let v = _mm512_loadu_ps(near.as_ptr());
-            let t = _mm512_reduce_min_ps(v);
-            (
-                t,
-                _mm512_cmp_ps_mask::<_CMP_EQ_OQ>(v, _mm512_set1_ps(t)) as u32,
-            )
-        };
-        if t.is_nan() || t >= tmax {
-            return None;
-        }
-        // Of equal distances, the lowest triangle index.
-        let l = (0..LANES)
-            .filter(|&l| lanes & (1 << l) != 0)
-            .min_by_key(|&l| near_chunk[l])
-            .expect("the minimum is some lane's");
-        let inv = 1.0 / near_det[l];
-        Some((
-            near_chunk[l] * LANES as u32 + l as u32,
-            TriangleHit {
-                t,
-                b1: near_v[l] * inv,
-                b2: near_w[l] * inv,
-            },
-        ))
     }
 
-    /// Whether `ray` meets a triangle in (0, `tmax`) (back faces included).
+    /// Whether `ray` meets a triangle in (0, `tmax`) (back faces included):
+    /// chunk by chunk, stopping at the first that holds one.
+    ///
+    /// # Safety
+    /// The CPU must support AVX-512F.
     #[inline(always)]
-    pub fn occluded(&self, ray: &WatertightRay, tmax: f32) -> bool {
-        let mut any = false;
-        for chunk in &self.chunks {
-            let e = Self::edges(chunk, ray, tmax);
-            for l in 0..LANES {
-                any |=
-                    chunk.used[l] & accepts(e.u[l], e.v[l], e.w[l], e.t_scaled[l], e.det[l], tmax);
+    pub unsafe fn occluded_avx512(&self, ray: &WatertightRay, tmax: f32) -> bool {
+        // SAFETY: AVX-512F (the caller's contract).
+        unsafe {
+            let vtmax = _mm512_set1_ps(tmax);
+            for chunk in &self.chunks {
+                if chunk.used & accepts(&Self::edges(chunk, ray, tmax), vtmax) != 0 {
+                    return true;
+                }
             }
+            false
         }
-        any
     }
 }
 
-/// Whether edge functions (u, v, w), scaled distance and determinant make
-/// a hit in (0, tmax): one sign for u, v, w, and t = t_scaled / det
-/// compared without dividing, as `WatertightRay::intersect_a` does (it
-/// then also checks t < tmax after its division); with
-/// `&` and `|`, not `&&` and `||`, so that a loop over lanes has no
-/// branches and vectorises.
+/// A corner of sixteen triangles (its coordinates on the permuted axes
+/// kx, ky, kz) relative to the ray origin `o` and sheared by `s`, as
+/// `WatertightRay::intersect_a`: (x - sx z, y - sy z, sz z).
+///
+/// # Safety
+/// The CPU must support AVX-512F, and each pointer must point at 16 f32
+/// aligned to 64 bytes. (A function, not a closure, so that it is inlined
+/// into the caller compiled for AVX-512 before its intrinsics are.)
 #[inline(always)]
-fn accepts(u: f32, v: f32, w: f32, t_scaled: f32, det: f32, tmax: f32) -> bool {
-    let mixed = ((u < 0.0) | (v < 0.0) | (w < 0.0)) & ((u > 0.0) | (v > 0.0) | (w > 0.0));
-    let bound = tmax * det;
-    let ahead = (det > 0.0) & (t_scaled > 0.0) & (t_scaled < bound);
-    let behind = (det < 0.0) & (t_scaled < 0.0) & (t_scaled > bound);
-    !mixed & (ahead | behind)
+unsafe fn sheared(
+    x: *const f32,
+    y: *const f32,
+    z: *const f32,
+    o: [__m512; 3],
+    s: [__m512; 3],
+) -> (__m512, __m512, __m512) {
+    // SAFETY: the caller's contract.
+    unsafe {
+        let z = _mm512_sub_ps(_mm512_load_ps(z), o[2]);
+        let x = _mm512_sub_ps(
+            _mm512_sub_ps(_mm512_load_ps(x), o[0]),
+            _mm512_mul_ps(s[0], z),
+        );
+        let y = _mm512_sub_ps(
+            _mm512_sub_ps(_mm512_load_ps(y), o[1]),
+            _mm512_mul_ps(s[1], z),
+        );
+        (x, y, _mm512_mul_ps(s[2], z))
+    }
+}
+
+/// The lanes whose edge functions, scaled distance and determinant make a
+/// hit in (0, tmax): one sign for u, v, w, and t = t_scaled / det
+/// compared without dividing, as `WatertightRay::intersect_a` does (it
+/// then also checks t < tmax after its division).
+///
+/// # Safety
+/// The CPU must support AVX-512F.
+#[inline(always)]
+unsafe fn accepts(e: &Edges, tmax: __m512) -> u16 {
+    // SAFETY: AVX-512F (the caller's contract).
+    unsafe {
+        let z = _mm512_setzero_ps();
+        // (Written out: intrinsics in closures would not be inlined.)
+        let negative = _mm512_cmp_ps_mask::<_CMP_LT_OQ>(e.u, z)
+            | _mm512_cmp_ps_mask::<_CMP_LT_OQ>(e.v, z)
+            | _mm512_cmp_ps_mask::<_CMP_LT_OQ>(e.w, z);
+        let positive = _mm512_cmp_ps_mask::<_CMP_GT_OQ>(e.u, z)
+            | _mm512_cmp_ps_mask::<_CMP_GT_OQ>(e.v, z)
+            | _mm512_cmp_ps_mask::<_CMP_GT_OQ>(e.w, z);
+        let bound = _mm512_mul_ps(tmax, e.det);
+        let ahead = _mm512_cmp_ps_mask::<_CMP_GT_OQ>(e.det, z)
+            & _mm512_cmp_ps_mask::<_CMP_GT_OQ>(e.t_scaled, z)
+            & _mm512_cmp_ps_mask::<_CMP_LT_OQ>(e.t_scaled, bound);
+        let behind = _mm512_cmp_ps_mask::<_CMP_LT_OQ>(e.det, z)
+            & _mm512_cmp_ps_mask::<_CMP_LT_OQ>(e.t_scaled, z)
+            & _mm512_cmp_ps_mask::<_CMP_GT_OQ>(e.t_scaled, bound);
+        let mixed = negative & positive;
+        !mixed & (ahead | behind)
+    }
 }
 
 #[cfg(test)]
@@ -378,7 +492,12 @@ mod tests {
                 let [a, b, c] = t.map(Vec3A::from);
                 ray.intersect_a(a, b, c, tmax).is_some()
             });
-            assert_eq!(scan.occluded(&ray, tmax), blocked, "ray {n}");
+            // SAFETY: AVX-512F checked above.
+            assert_eq!(
+                unsafe { scan.occluded_avx512(&ray, tmax) },
+                blocked,
+                "ray {n}"
+            );
         }
         assert!(hits > 5_000 && edge_rays == 5_000, "{hits} hits");
     }

@@ -486,7 +486,8 @@ fn segment(s: &WavefrontScene, p: &mut Paths, samplers: &mut [Sampler]) {
             shadow_origin[2][i],
         );
         let ray = WatertightRay::new(o, Vec3::new(wi[0][i], wi[1][i], wi[2][i]));
-        if s.scan.occluded(&ray, shadow_tmax[i]) {
+        // SAFETY: `trace_group` runs only where AVX-512 is (its contract).
+        if unsafe { s.scan.occluded_avx512(&ray, shadow_tmax[i]) } {
             shadow[i] = false;
         }
     }
