@@ -443,7 +443,8 @@ mod tests {
                     let mut sampler = Sampler::new(1, 2, i, 7);
                     // Segments up to the fourth are spared, however dim.
                     let dim = Rgb::splat(1e-3);
-                    let next = scatter(ctx, &s, &mut sampler, dim, 1.0, 3, RayCone::POINT)
+                    let u_lobe = sampler.next_1d();
+                    let next = scatter(ctx, &s, &mut sampler, u_lobe, dim, 1.0, 3, RayCone::POINT)
                         .expect("no roulette on the fourth segment");
                     if next.ray.direction.y < 0.0 {
                         assert!((next.eta_scale - 2.25).abs() < 1e-5, "{}", next.eta_scale);
@@ -453,7 +454,9 @@ mod tests {
                     }
                     let mut sampler = Sampler::new(1, 2, i, 7);
                     let beta = Rgb::splat(1e-3);
-                    if let Some(next) = scatter(ctx, &s, &mut sampler, beta, 1.0, 9, RayCone::POINT)
+                    let u_lobe = sampler.next_1d();
+                    if let Some(next) =
+                        scatter(ctx, &s, &mut sampler, u_lobe, beta, 1.0, 9, RayCone::POINT)
                     {
                         late += 1;
                         if !glass {

@@ -168,11 +168,22 @@ pub(crate) fn walk<S: RadianceSink>(
         if st.depth >= max_depth {
             return;
         }
+        // The light's and the lobe's choice share a dimension pair.
+        let [u_select, u_lobe] = sampler.next_2d();
         timed(Stage::NextEvent, || {
-            next_event(ctx, &s, sampler, st.beta, st.depth, sink);
+            next_event(ctx, &s, sampler, u_select, st.beta, st.depth, sink);
         });
         let next = timed(Stage::Scatter, || {
-            scatter(ctx, &s, sampler, st.beta, st.eta_scale, st.depth, cone)
+            scatter(
+                ctx,
+                &s,
+                sampler,
+                u_lobe,
+                st.beta,
+                st.eta_scale,
+                st.depth,
+                cone,
+            )
         });
         match next {
             Some(next) => st = next,
@@ -184,22 +195,24 @@ pub(crate) fn walk<S: RadianceSink>(
 /// Next-event estimation at `s` (the end of segment `depth`): one light
 /// sample, weighted against BSDF sampling; skipped for purely specular
 /// surfaces, whose eval is 0 everywhere. Adds to segment `depth + 1`.
+/// `u_select` chooses the light; the point on it is drawn here.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn next_event<S: RadianceSink>(
     ctx: &TraceContext,
     s: &Shading,
     sampler: &mut Sampler,
+    u_select: f32,
     beta: Rgb,
     depth: u32,
     sink: &mut S,
 ) {
-    let u_sel = sampler.next_1d();
     let u_light = sampler.next_2d();
     if !s.bsdf.flags().non_delta {
         return;
     }
     let Some(chosen) = ctx
         .lights
-        .sample(ctx.scene, ctx.geometry, s.hit.p, u_sel, u_light)
+        .sample(ctx.scene, ctx.geometry, s.hit.p, u_select, u_light)
     else {
         return;
     };
@@ -228,7 +241,8 @@ pub(crate) fn next_event<S: RadianceSink>(
 /// BSDF sampling at `s`, the end of segment `depth` of a path of throughput
 /// `beta` (and η² product `eta_scale`) whose cone at `s` is `cone`: the
 /// next segment, or `None` when the path ends (no sample, a direction on
-/// the wrong side, Russian roulette).
+/// the wrong side, Russian roulette). `u_lobe` chooses the BSDF's lobe;
+/// the direction's numbers are drawn here.
 ///
 /// Inlined into the path loop, so that the next [`PathState`] is built
 /// where the loop keeps it: returned through memory, it was copied back
@@ -240,18 +254,18 @@ pub(crate) fn next_event<S: RadianceSink>(
 ///
 /// [`SceneGeometry::intersect`]: crate::geometry::SceneGeometry::intersect
 #[inline(always)]
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn scatter(
     ctx: &TraceContext,
     s: &Shading,
     sampler: &mut Sampler,
+    u_lobe: f32,
     beta: Rgb,
     eta_scale: f32,
     depth: u32,
     cone: RayCone,
 ) -> Option<PathState> {
-    let bs = s
-        .bsdf
-        .sample(s.wo_local, sampler.next_1d(), sampler.next_2d())?;
+    let bs = s.bsdf.sample(s.wo_local, u_lobe, sampler.next_2d())?;
     let wi = s.frame.to_world(bs.wi);
     if !TraceContext::consistent_side(s, wi, bs.wi) {
         return None;

@@ -62,8 +62,9 @@ impl TraceContext<'_> {
         // is direct light and the walk stops after `bounces` more.
         let max_depth = bounces.saturating_add(2);
         let beta = Rgb::ONE;
-        next_event(self, &s, sampler, beta, 1, sink);
-        if let Some(next) = scatter(self, &s, sampler, beta, 1.0, 1, RayCone::POINT) {
+        let [u_select, u_lobe] = sampler.next_2d();
+        next_event(self, &s, sampler, u_select, beta, 1, sink);
+        if let Some(next) = scatter(self, &s, sampler, u_lobe, beta, 1.0, 1, RayCone::POINT) {
             walk(
                 self,
                 next,

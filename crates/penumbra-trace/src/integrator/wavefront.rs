@@ -394,7 +394,9 @@ fn segment(s: &WavefrontScene, p: &mut Paths, samplers: &mut [Sampler]) {
     let mut u_light = [[0.0f32; LANES]; 2];
     for i in 0..LANES {
         if p.live[i] {
-            u_select[i] = samplers[i].next_1d();
+            // The lobe's number (unused: Lambert has one) shares the
+            // light choice's pair, as in `path::walk`.
+            [u_select[i], _] = samplers[i].next_2d();
             [u_light[0][i], u_light[1][i]] = samplers[i].next_2d();
         }
     }
@@ -497,14 +499,12 @@ fn segment(s: &WavefrontScene, p: &mut Paths, samplers: &mut [Sampler]) {
             p.radiance[a][i] += if shadow[i] { contribution[a][i] } else { 0.0 };
         }
     }
-    // BSDF sampling (cosine-weighted; the lobe number is drawn and unused,
-    // as Lambert's `sample` leaves it), then Russian roulette.
+    // BSDF sampling (cosine-weighted), then Russian roulette.
     let mut u_bsdf = [[0.0f32; LANES]; 2];
     let mut u_rr = [0.0f32; LANES];
     for i in 0..LANES {
         p.depth[i] += 1;
         if p.live[i] {
-            let _lobe = samplers[i].next_1d();
             [u_bsdf[0][i], u_bsdf[1][i]] = samplers[i].next_2d();
             if p.depth[i] > RR_START_DEPTH {
                 u_rr[i] = samplers[i].next_1d();
