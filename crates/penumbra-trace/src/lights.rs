@@ -161,6 +161,22 @@ impl LightSampler {
         }
     }
 
+    /// Where every light the sampler chooses is an emissive triangle (no
+    /// abstract or analytic area light, no emitting environment): each
+    /// choice's triangle, in [`Self::sample`]'s order, and the
+    /// distribution it picks them by. `None` otherwise.
+    pub(crate) fn triangle_lights(&self) -> Option<(Vec<u32>, &Distribution1D)> {
+        let triangles = self
+            .entries
+            .iter()
+            .map(|e| match *e {
+                Entry::Triangle { triangle, .. } => Some(triangle),
+                _ => None,
+            })
+            .collect::<Option<Vec<u32>>>()?;
+        Some((triangles, &self.all))
+    }
+
     /// The environment (what escaping rays see).
     pub fn environment(&self) -> &Environment {
         &self.environment

@@ -213,7 +213,7 @@ pub fn render(
     let scalar_paths = options.scalar_paths
         || std::env::var_os("PENUMBRA_SCALAR_PATHS").is_some_and(|v| !v.is_empty() && v != "0");
     let wavefront = (!options.aovs && !scalar_paths)
-        .then(|| WavefrontScene::new(scene, &geometry, settings))
+        .then(|| WavefrontScene::new(scene, &geometry, &lights, settings))
         .flatten();
     let crop = options.crop.clone().unwrap_or(Crop { x: 0..w, y: 0..h });
     assert!(crop.x.end <= w && crop.y.end <= h, "crop outside the image");

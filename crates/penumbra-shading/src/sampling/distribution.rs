@@ -71,6 +71,13 @@ impl Distribution1D {
         self.cdf.len()
     }
 
+    /// The running sums of the weights (item i's is the sum of weights 0
+    /// to i, invalid ones counted as 0) and their total: [`Self::sample`]
+    /// picks the first item whose running sum exceeds u × total.
+    pub fn running_sums(&self) -> (&[f64], f64) {
+        (&self.cdf, self.total)
+    }
+
     /// Probability of item `i`.
     #[inline]
     pub fn pmf(&self, i: usize) -> f32 {

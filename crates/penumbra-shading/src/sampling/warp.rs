@@ -70,18 +70,19 @@ pub const UNIFORM_SPHERE_PDF: f32 = 1.0 / (4.0 * PI);
 
 /// Uniform point on a triangle as barycentrics (b1, b2) (Heitz 2019,
 /// "A Low-Distortion Map Between Triangle and Square"); pdf = 1/area.
+///
+/// Written with selects, and with `max` and `min` where `clamp` would
+/// check its variable bounds, so that a loop over lanes vectorises.
+#[inline]
 pub fn square_to_triangle(u: [f32; 2]) -> Vec2 {
-    let (mut b0, mut b1);
-    if u[1] > u[0] {
-        b0 = u[0] / 2.0;
-        b1 = u[1] - b0;
-    } else {
-        b1 = u[1] / 2.0;
-        b0 = u[0] - b1;
-    }
-    // keep inside the triangle under rounding
-    b0 = b0.clamp(0.0, 1.0);
-    b1 = b1.clamp(0.0, 1.0 - b0);
+    let upper = u[1] > u[0];
+    // The halved coordinate is the smaller one.
+    let half = if upper { u[0] } else { u[1] } / 2.0;
+    let b0 = if upper { half } else { u[0] - half };
+    let b1 = if upper { u[1] - half } else { half };
+    // Kept inside the triangle under rounding.
+    let b0 = b0.clamp(0.0, 1.0);
+    let b1 = b1.max(0.0).min(1.0 - b0);
     Vec2::new(b0, b1)
 }
 

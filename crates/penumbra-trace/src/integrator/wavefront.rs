@@ -35,32 +35,36 @@
 use crate::accel::WatertightRay;
 use crate::accel::scan::{self, TriangleScan};
 use crate::geometry::SceneGeometry;
+use crate::lights::LightSampler;
 use crate::ray::offset_coordinate;
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use penumbra_image::film::FilmTile;
 use penumbra_scene::{FilmRays, IntegratorKind, RenderSettings, Scene};
 use penumbra_shading::Frame;
 use penumbra_shading::bsdf::Bsdf;
-use penumbra_shading::color::luminance;
-use penumbra_shading::sampling::{Sampler, power_heuristic, square_to_cosine_hemisphere};
+use penumbra_shading::sampling::{
+    Sampler, power_heuristic, square_to_cosine_hemisphere, square_to_triangle,
+};
 use std::f32::consts::FRAC_1_PI;
 
 /// Paths in flight per group: one AVX-512 register of f32.
 pub(crate) const LANES: usize = 16;
 
-// Segments after which Russian roulette may end a path: `path.rs`'s.
-use super::path::RR_START_DEPTH;
+// Segments after which Russian roulette may end a path, and its survival
+// probability: `path.rs`'s.
+use super::path::{RR_START_DEPTH, rr_survival};
 
 type F = [f32; LANES];
 type B = [bool; LANES];
 
-/// What the lanes read of the scene: per triangle its corners, unit front
-/// normal, albedo, emission, sidedness, area and probability of being
-/// chosen as a light; the emissive triangles with their cumulative
-/// probabilities; the scan.
+/// What the lanes read of the scene: per triangle its corners (the
+/// geometry's), unit front normal, albedo, emission, sidedness and
+/// probability of being chosen as a light over its area; the light
+/// sampler's emissive triangles with the running sums of their weights;
+/// the scan.
 #[derive(Debug)]
-pub(crate) struct WavefrontScene {
-    corners: Vec<[Vec3; 3]>,
+pub(crate) struct WavefrontScene<'a> {
+    corners: &'a [[Vec3; 3]],
     normal: Vec<Vec3>,
     albedo: Vec<Vec3>,
     emission: Vec<Vec3>,
@@ -68,20 +72,23 @@ pub(crate) struct WavefrontScene {
     /// Light selection probability over area, per triangle (0 for a
     /// non-emitter): a light sample's pdf is this × d² / |cos θ_light|.
     pmf_per_area: Vec<f32>,
+    /// The light sampler's choices (triangles), the running sums of their
+    /// weights and the total, as `Distribution1D::sample` reads them.
     lights: Vec<u32>,
-    /// Cumulative selection probabilities of `lights`, the last 1.
-    cdf: Vec<f32>,
+    running_sums: Vec<f64>,
+    total_weight: f64,
     scan: TriangleScan,
     max_depth: u32,
 }
 
-impl WavefrontScene {
+impl<'a> WavefrontScene<'a> {
     /// The scene as the lanes read it, or `None` where the scene, the
     /// settings or the CPU are outside this integrator's scope (see the
     /// module's documentation).
     pub(crate) fn new(
         scene: &Scene,
-        geometry: &SceneGeometry,
+        geometry: &'a SceneGeometry,
+        light_sampler: &LightSampler,
         settings: &RenderSettings,
     ) -> Option<Self> {
         // Every feature `trace_group` is compiled for.
@@ -117,9 +124,7 @@ impl WavefrontScene {
         let mut albedo = Vec::with_capacity(n);
         let mut emission = Vec::with_capacity(n);
         let mut double_sided = Vec::with_capacity(n);
-        let mut lights = Vec::new();
         let mut culls = Vec::with_capacity(n);
-        let mut weights = Vec::new();
         for t in 0..n as u32 {
             let m = &scene.materials[geometry.material_of(t)];
             let Bsdf::Lambert(lambert) = m.bsdf else {
@@ -141,42 +146,33 @@ impl WavefrontScene {
                     return None;
                 }
             }
-            let area = geometry.area(t);
             normal.push(ng);
             albedo.push(lambert.albedo);
             emission.push(m.emission);
             double_sided.push(m.double_sided);
             culls.push(m.cull_back_faces);
-            // Chosen in proportion to emitted power, as `LightSampler`.
-            let w = luminance(m.emitted_power(area));
-            if m.is_emissive() && w > 0.0 && w.is_finite() && area > 0.0 {
-                lights.push(t);
-                weights.push(f64::from(w));
-            }
         }
-        let total: f64 = weights.iter().sum();
-        if lights.is_empty() || !total.is_finite() {
+        // The lights as the scalar integrator chooses them.
+        let (lights, distribution) = light_sampler.triangle_lights()?;
+        let (running_sums, total_weight) = distribution.running_sums();
+        if lights.is_empty() || !(total_weight > 0.0 && total_weight.is_finite()) {
             return None;
         }
         let mut pmf_per_area = vec![0.0; n];
-        let mut cdf = Vec::with_capacity(lights.len());
-        let mut sum = 0.0;
-        for (&t, w) in lights.iter().zip(&weights) {
-            sum += w;
-            cdf.push((sum / total) as f32);
-            pmf_per_area[t as usize] = (w / total) as f32 / geometry.area(t);
+        for (entry, &t) in lights.iter().enumerate() {
+            pmf_per_area[t as usize] = distribution.pmf(entry) / geometry.area(t);
         }
-        *cdf.last_mut().expect("a light") = 1.0;
         Some(WavefrontScene {
             scan: TriangleScan::new(&geometry.triangles, &normal, &culls)?,
-            corners: geometry.triangles.clone(),
+            corners: &geometry.triangles,
             normal,
             albedo,
             emission,
             double_sided,
             pmf_per_area,
             lights,
-            cdf,
+            running_sums: running_sums.to_vec(),
+            total_weight,
             max_depth: settings.max_depth,
         })
     }
@@ -338,7 +334,7 @@ fn segment(s: &WavefrontScene, p: &mut Paths, samplers: &mut [Sampler]) {
             pmf_per_area[i] = at(&s.pmf_per_area, k);
             two_sided[i] = at(&s.double_sided, k);
             (
-                at(&s.corners, k),
+                at(s.corners, k),
                 at(&s.normal, k),
                 at(&s.albedo, k),
                 at(&s.emission, k),
@@ -405,17 +401,20 @@ fn segment(s: &WavefrontScene, p: &mut Paths, samplers: &mut [Sampler]) {
     let mut le = [[0.0f32; LANES]; 3];
     let mut l_pmf_per_area = [0.0f32; LANES];
     let mut l_two_sided = [false; LANES];
-    let last = s.cdf.len() - 1;
+    let last = s.lights.len() - 1;
     for i in 0..LANES {
-        // The light: the first whose cumulative probability exceeds u.
+        // The light: the first whose running sum exceeds u × total, as
+        // `Distribution1D::sample` (every weight is positive, so it is
+        // the number of sums at or below it).
+        let target = f64::from(u_select[i]) * s.total_weight;
         let mut j = 0;
-        for &c in &s.cdf[..last] {
-            j += (u_select[i] >= c) as usize;
+        for &c in &s.running_sums[..last] {
+            j += (c <= target) as usize;
         }
         // SAFETY: j ≤ last < lights.len(); lights are triangle indices.
         unsafe {
             let k = at(&s.lights, j) as usize;
-            let c = at(&s.corners, k);
+            let c = at(s.corners, k);
             let (n, e) = (at(&s.normal, k), at(&s.emission, k));
             for a in 0..3 {
                 for (v, corner) in c.iter().enumerate() {
@@ -434,16 +433,8 @@ fn segment(s: &WavefrontScene, p: &mut Paths, samplers: &mut [Sampler]) {
     let mut shadow = [false; LANES];
     let mut contribution = [[0.0f32; LANES]; 3];
     for i in 0..LANES {
-        // A uniform point of the triangle (`square_to_triangle`; max and
-        // min for b1, not `clamp`, whose check of its variable bounds
-        // would keep the loop from vectorising).
-        let (u0, u1) = (u_light[0][i], u_light[1][i]);
-        let upper = u1 > u0;
-        let half = if upper { u0 * 0.5 } else { u1 * 0.5 };
-        let b0 = (if upper { half } else { u0 - half }).clamp(0.0, 1.0);
-        let b1 = (if upper { u1 - half } else { half })
-            .max(0.0)
-            .min(1.0 - b0);
+        // A uniform point of the triangle.
+        let Vec2 { x: b0, y: b1 } = square_to_triangle([u_light[0][i], u_light[1][i]]);
         let mut d = [0.0f32; 3];
         for a in 0..3 {
             let q = lc[0][a][i] * (1.0 - b0 - b1) + lc[1][a][i] * b0 + lc[2][a][i] * b1;
@@ -521,8 +512,9 @@ fn segment(s: &WavefrontScene, p: &mut Paths, samplers: &mut [Sampler]) {
             p.beta[a][i] *= albedo[a][i];
         }
         let q = if p.depth[i] > RR_START_DEPTH {
-            // `path::rr_survival` (η = 1 on Lambert surfaces).
-            p.beta[0][i].max(p.beta[1][i]).max(p.beta[2][i]).min(0.95)
+            // No refraction on Lambert surfaces: η² product 1.
+            let beta = Vec3::new(p.beta[0][i], p.beta[1][i], p.beta[2][i]);
+            rr_survival(beta, 1.0)
         } else {
             1.0
         };
