@@ -124,13 +124,23 @@ fn to_unit_float(x: u32) -> f32 {
 }
 
 /// Dimension pairs whose scramble seeds a [`Sampler`] keeps for the next
-/// sample of its pixel (a depth-8 path draws at most 36: one for the
-/// camera ray, five a bounce), in blocks of [`BLOCK`].
-const CACHED_BLOCKS: usize = 8;
+/// sample of its pixel (a depth-8 path draws at most 29: one for the
+/// camera ray, four a bounce), in blocks of [`BLOCK`].
+const CACHED_BLOCKS: usize = 4;
 const CACHED_PAIRS: usize = CACHED_BLOCKS * BLOCK;
-/// The pairs a depth-8 path draws at most: the camera ray's, then five for
-/// each of the seven bounces.
-const DEPTH_8_PAIRS: usize = 1 + 5 * 7;
+/// The pairs a depth-8 path draws at most: the camera ray's, then for each
+/// of the seven bounces the light's and lobe's choice, the light point,
+/// the BSDF direction and Russian roulette's number.
+const DEPTH_8_PAIRS: usize = 1 + 4 * 7;
+/// Blocks a [`Sampler`] computes together when a sample reaches the first
+/// of them: their computations are independent, so the CPU overlaps them
+/// (each is a long chain of dependent multiplications), and most paths
+/// draw more than one block's pairs.
+const BLOCKS_AT_ONCE: usize = 2;
+const _: () = assert!(
+    CACHED_BLOCKS.is_multiple_of(BLOCKS_AT_ONCE),
+    "blocks are computed in whole groups"
+);
 const _: () = assert!(
     CACHED_PAIRS >= DEPTH_8_PAIRS,
     "a depth-8 path's pairs are kept"
@@ -282,13 +292,16 @@ impl Sampler {
         let (b, lane) = (d / BLOCK, d % BLOCK);
         match self.blocks {
             Some(kernel) => {
-                debug_assert_eq!((d, lane), (self.ready as usize, 0));
-                if self.cached as usize <= d {
-                    kernel.seeds(self.pixel_seed, d as u32, &mut self.seeds[b]);
-                    self.cached += BLOCK as u32;
+                debug_assert_eq!((d, lane, b % BLOCKS_AT_ONCE), (self.ready as usize, 0, 0));
+                for b in b..b + BLOCKS_AT_ONCE {
+                    let first = (b * BLOCK) as u32;
+                    if self.cached <= first {
+                        kernel.seeds(self.pixel_seed, first, &mut self.seeds[b]);
+                        self.cached += BLOCK as u32;
+                    }
+                    kernel.points(self.index_reversed, &self.seeds[b], &mut self.points[b]);
+                    self.ready += BLOCK as u32;
                 }
-                kernel.points(self.index_reversed, &self.seeds[b], &mut self.points[b]);
-                self.ready += BLOCK as u32;
                 self.points[b][0]
             }
             None => {
@@ -529,10 +542,12 @@ mod tests {
                     }
                 }
                 // Seeds are hashed once per pixel: for every pair drawn so
-                // far (a whole block at a time), up to the kept pairs.
+                // far (whole groups of blocks at a time), up to the kept
+                // pairs.
                 most = most.max(drawn as usize).min(CACHED_PAIRS);
                 assert_eq!(alone.cached as usize, most);
-                assert_eq!(blocks.cached as usize, most.div_ceil(BLOCK) * BLOCK);
+                let group = BLOCKS_AT_ONCE * BLOCK;
+                assert_eq!(blocks.cached as usize, most.div_ceil(group) * group);
             }
         }
     }
