@@ -7,7 +7,7 @@
 //! that pairs of dimensions are decorrelated. The sequence depends only on
 //! (pixel, sample index, dimension, seed), never on the thread that asks.
 
-use super::sobol_block::{Avx2, BLOCK, SeedBlock};
+use super::sobol_block::{Avx2, BLOCK, GROUP, SeedBlock};
 
 /// A fast 32-bit integer hash (Wellons' "lowbias32").
 #[inline]
@@ -132,13 +132,10 @@ const CACHED_PAIRS: usize = CACHED_BLOCKS * BLOCK;
 /// of the seven bounces the light's and lobe's choice, the light point,
 /// the BSDF direction and Russian roulette's number.
 const DEPTH_8_PAIRS: usize = 1 + 4 * 7;
-/// Blocks a [`Sampler`] computes together when a sample reaches the first
-/// of them: their computations are independent, so the CPU overlaps them
-/// (each is a long chain of dependent multiplications), and most paths
-/// draw more than one block's pairs.
-const BLOCKS_AT_ONCE: usize = 2;
+// A sample's points are computed a group of blocks at a time (sixteen
+// pairs: most paths draw more than eight).
 const _: () = assert!(
-    CACHED_BLOCKS.is_multiple_of(BLOCKS_AT_ONCE),
+    CACHED_BLOCKS.is_multiple_of(GROUP),
     "blocks are computed in whole groups"
 );
 const _: () = assert!(
@@ -292,16 +289,16 @@ impl Sampler {
         let (b, lane) = (d / BLOCK, d % BLOCK);
         match self.blocks {
             Some(kernel) => {
-                debug_assert_eq!((d, lane, b % BLOCKS_AT_ONCE), (self.ready as usize, 0, 0));
-                for b in b..b + BLOCKS_AT_ONCE {
-                    let first = (b * BLOCK) as u32;
-                    if self.cached <= first {
-                        kernel.seeds(self.pixel_seed, first, &mut self.seeds[b]);
-                        self.cached += BLOCK as u32;
-                    }
-                    kernel.points(self.index_reversed, &self.seeds[b], &mut self.points[b]);
-                    self.ready += BLOCK as u32;
+                debug_assert_eq!((d, lane, b % GROUP), (self.ready as usize, 0, 0));
+                let g = b / GROUP;
+                let seeds = &mut self.seeds.as_chunks_mut::<GROUP>().0[g];
+                if self.cached as usize <= d {
+                    kernel.seeds(self.pixel_seed, d as u32, seeds);
+                    self.cached += (GROUP * BLOCK) as u32;
                 }
+                let points = &mut self.points.as_chunks_mut::<GROUP>().0[g];
+                kernel.points(self.index_reversed, seeds, points);
+                self.ready += (GROUP * BLOCK) as u32;
                 self.points[b][0]
             }
             None => {
@@ -510,15 +507,29 @@ mod tests {
         }
     }
 
-    /// The AVX2 blocks draw the points that the pairs computed one at a
-    /// time draw: the same bits, through blocks, past the kept pairs, with
-    /// first coordinates alone, and after a restart mid-block. Fails on an
-    /// x86-64 CPU without AVX2 (the blocks would go untested); other
-    /// architectures have no blocks.
+    /// The blocks (sixteen pairs in one AVX-512 register, and as two AVX2
+    /// blocks) draw the points that the pairs computed one at a time draw:
+    /// the same bits, through blocks, past the kept pairs, with first
+    /// coordinates alone, and after a restart mid-block. Fails on an
+    /// x86-64 CPU without AVX2 (the blocks would go untested), or without
+    /// AVX-512 unless `PENUMBRA_SKIP_AVX512` is set; other architectures
+    /// have no blocks.
     #[test]
     #[cfg(target_arch = "x86_64")]
     fn blocks_match_pairs_computed_alone() {
         let kernel = Avx2::detect().expect("this test needs an x86-64 CPU with AVX2");
+        if !kernel.has_avx512() {
+            assert!(
+                std::env::var_os("PENUMBRA_SKIP_AVX512").is_some(),
+                "no AVX-512 here: set PENUMBRA_SKIP_AVX512=1 to test the AVX2 kernel alone"
+            );
+        }
+        for kernel in [kernel, kernel.without_avx512()] {
+            blocks_match_pairs_computed_alone_with(kernel);
+        }
+    }
+
+    fn blocks_match_pairs_computed_alone_with(kernel: Avx2) {
         let pairs = CACHED_PAIRS as u32 + 12;
         let mut x = 3u32;
         for _ in 0..300 {
@@ -546,7 +557,7 @@ mod tests {
                 // pairs.
                 most = most.max(drawn as usize).min(CACHED_PAIRS);
                 assert_eq!(alone.cached as usize, most);
-                let group = BLOCKS_AT_ONCE * BLOCK;
+                let group = GROUP * BLOCK;
                 assert_eq!(blocks.cached as usize, most.div_ceil(group) * group);
             }
         }
