@@ -151,8 +151,9 @@ const _: () = assert!(
 /// A pair's three scramble seeds depend on the pixel and the dimension only,
 /// so the sampler keeps them: [`Sampler::start_sample`] moves to another
 /// sample of the same pixel without hashing them again. On a CPU with AVX2
-/// it computes a sample's points eight pairs at a time (`sobol_block.rs`),
-/// the same points as one at a time.
+/// it computes a sample's points sixteen pairs at a time (`sobol_block.rs`:
+/// two AVX2 blocks, or one AVX-512 register for
+/// [`Sampler::for_pixel_avx512`]), the same points as one at a time.
 #[derive(Clone, Debug)]
 pub struct Sampler {
     pixel_seed: u32,
@@ -223,6 +224,13 @@ impl Sampler {
         Self::with_blocks(x, y, seed, Avx2::detect())
     }
 
+    /// As [`Sampler::for_pixel`] (the same points), for code that runs in
+    /// AVX-512 registers anyway: it computes sixteen pairs in one AVX-512
+    /// register where the CPU has it.
+    pub fn for_pixel_avx512(x: u32, y: u32, seed: u32) -> Self {
+        Self::with_blocks(x, y, seed, Avx2::detect_avx512())
+    }
+
     fn with_blocks(x: u32, y: u32, seed: u32, blocks: Option<Avx2>) -> Self {
         let pixel_seed = hash_combine(hash_combine(hash_u32(seed), x), y);
         Self {
@@ -253,7 +261,7 @@ impl Sampler {
     /// `R(LK(i'))`; dimension 1 is Sobol's, scrambled to
     /// `R(LK(R(sobol1(i'))))`. Computed on `y = LK(R(i))` = `R(i')`
     /// with reversed tables, so only three reversals remain (one pair at a
-    /// time; `sobol_block.rs` computes the same points eight at a time).
+    /// time; `sobol_block.rs` computes the same points sixteen at a time).
     #[inline]
     pub fn next_2d(&mut self) -> [f32; 2] {
         self.next_pair(true)
@@ -517,7 +525,7 @@ mod tests {
     #[test]
     #[cfg(target_arch = "x86_64")]
     fn blocks_match_pairs_computed_alone() {
-        let kernel = Avx2::detect().expect("this test needs an x86-64 CPU with AVX2");
+        let kernel = Avx2::detect_avx512().expect("this test needs an x86-64 CPU with AVX2");
         if !kernel.has_avx512() {
             assert!(
                 std::env::var_os("PENUMBRA_SKIP_AVX512").is_some(),

@@ -551,7 +551,7 @@ pub(crate) fn render_tile(
         // One sampler per pixel, as `render_tile`'s scalar loop.
         let mut samplers: Vec<Sampler> = group
             .iter()
-            .map(|&(x, y)| Sampler::for_pixel(x, y, seed))
+            .map(|&(x, y)| Sampler::for_pixel_avx512(x, y, seed))
             .collect();
         #[cfg(target_arch = "x86_64")]
         // SAFETY: `WavefrontScene::new` checked the CPU's features.
