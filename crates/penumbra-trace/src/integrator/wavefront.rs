@@ -57,21 +57,34 @@ use super::path::{RR_START_DEPTH, rr_survival};
 type F = [f32; LANES];
 type B = [bool; LANES];
 
-/// What the lanes read of the scene: per triangle its corners (the
-/// geometry's), unit front normal, albedo, emission, sidedness and
-/// probability of being chosen as a light over its area; the light
-/// sampler's emissive triangles with the running sums of their weights;
-/// the scan.
+/// One attribute component of every triangle, a table that sixteen lanes
+/// read with two-register permutes instead of a gather.
+#[derive(Clone, Copy, Debug)]
+#[repr(C, align(64))]
+struct Table([f32; scan::MAX_TRIANGLES]);
+
+// The permutes read 32 entries of two registers; two of them, 64.
+const _: () = assert!(scan::MAX_TRIANGLES == 64, "a table is four registers");
+
+/// The tables, in [`WavefrontScene::tables`]: corner c's axis a at
+/// `CORNERS + 3c + a`, then the unit front normal, albedo and emission
+/// (three components each), the probability of being chosen as a light
+/// over the triangle's area (0 for a non-emitter: a light sample's pdf is
+/// this × d² / |cos θ_light|), and 1 for a two-sided surface, else 0.
+const CORNERS: usize = 0;
+const NORMAL: usize = 9;
+const ALBEDO: usize = 12;
+const EMISSION: usize = 15;
+const PMF_PER_AREA: usize = 18;
+const TWO_SIDED: usize = 19;
+const ATTRIBUTES: usize = 20;
+
+/// What the lanes read of the scene: the triangles' attributes as tables;
+/// the light sampler's emissive triangles with the running sums of their
+/// weights; the scan.
 #[derive(Debug)]
-pub(crate) struct WavefrontScene<'a> {
-    corners: &'a [[Vec3; 3]],
-    normal: Vec<Vec3>,
-    albedo: Vec<Vec3>,
-    emission: Vec<Vec3>,
-    double_sided: Vec<bool>,
-    /// Light selection probability over area, per triangle (0 for a
-    /// non-emitter): a light sample's pdf is this × d² / |cos θ_light|.
-    pmf_per_area: Vec<f32>,
+pub(crate) struct WavefrontScene {
+    tables: Box<[Table; ATTRIBUTES]>,
     /// The light sampler's choices (triangles), the running sums of their
     /// weights and the total, as `Distribution1D::sample` reads them.
     lights: Vec<u32>,
@@ -81,13 +94,13 @@ pub(crate) struct WavefrontScene<'a> {
     max_depth: u32,
 }
 
-impl<'a> WavefrontScene<'a> {
+impl WavefrontScene {
     /// The scene as the lanes read it, or `None` where the scene, the
     /// settings or the CPU are outside this integrator's scope (see the
     /// module's documentation).
     pub(crate) fn new(
         scene: &Scene,
-        geometry: &'a SceneGeometry,
+        geometry: &SceneGeometry,
         light_sampler: &LightSampler,
         settings: &RenderSettings,
     ) -> Option<Self> {
@@ -120,10 +133,8 @@ impl<'a> WavefrontScene<'a> {
         {
             return None;
         }
+        let mut tables = Box::new([Table([0.0; scan::MAX_TRIANGLES]); ATTRIBUTES]);
         let mut normal = Vec::with_capacity(n);
-        let mut albedo = Vec::with_capacity(n);
-        let mut emission = Vec::with_capacity(n);
-        let mut double_sided = Vec::with_capacity(n);
         let mut culls = Vec::with_capacity(n);
         for t in 0..n as u32 {
             let m = &scene.materials[geometry.material_of(t)];
@@ -146,10 +157,17 @@ impl<'a> WavefrontScene<'a> {
                     return None;
                 }
             }
+            let k = t as usize;
+            for a in 0..3 {
+                for (c, corner) in geometry.triangles[k].iter().enumerate() {
+                    tables[CORNERS + 3 * c + a].0[k] = corner[a];
+                }
+                tables[NORMAL + a].0[k] = ng[a];
+                tables[ALBEDO + a].0[k] = lambert.albedo[a];
+                tables[EMISSION + a].0[k] = m.emission[a];
+            }
+            tables[TWO_SIDED].0[k] = if m.double_sided { 1.0 } else { 0.0 };
             normal.push(ng);
-            albedo.push(lambert.albedo);
-            emission.push(m.emission);
-            double_sided.push(m.double_sided);
             culls.push(m.cull_back_faces);
         }
         // The lights as the scalar integrator chooses them.
@@ -158,18 +176,12 @@ impl<'a> WavefrontScene<'a> {
         if lights.is_empty() || !(total_weight > 0.0 && total_weight.is_finite()) {
             return None;
         }
-        let mut pmf_per_area = vec![0.0; n];
         for (entry, &t) in lights.iter().enumerate() {
-            pmf_per_area[t as usize] = distribution.pmf(entry) / geometry.area(t);
+            tables[PMF_PER_AREA].0[t as usize] = distribution.pmf(entry) / geometry.area(t);
         }
         Some(WavefrontScene {
             scan: TriangleScan::new(&geometry.triangles, &normal, &culls)?,
-            corners: &geometry.triangles,
-            normal,
-            albedo,
-            emission,
-            double_sided,
-            pmf_per_area,
+            tables,
             lights,
             running_sums: running_sums.to_vec(),
             total_weight,
@@ -187,6 +199,32 @@ unsafe fn at<T: Copy>(v: &[T], k: usize) -> T {
     debug_assert!(k < v.len());
     // SAFETY: the caller's contract.
     unsafe { *v.get_unchecked(k) }
+}
+
+/// Every attribute of the triangles `index` (one a lane, each below
+/// [`scan::MAX_TRIANGLES`]): per table, entries 0–31 and 32–63 permuted
+/// from two registers each, then chosen by bit 5 of the index.
+///
+/// # Safety
+/// The CPU must support AVX-512F.
+#[inline(always)]
+unsafe fn gather(tables: &[Table; ATTRIBUTES], index: &[u32; LANES]) -> [F; ATTRIBUTES] {
+    use std::arch::x86_64::*;
+    let mut out = [[0.0f32; LANES]; ATTRIBUTES];
+    // SAFETY: AVX-512F (the caller's contract); each table is 64 aligned
+    // f32, read as four aligned registers; 16 values read and written.
+    unsafe {
+        let index = _mm512_loadu_si512(index.as_ptr().cast());
+        let upper = _mm512_test_epi32_mask(index, _mm512_set1_epi32(32));
+        for (table, out) in tables.iter().zip(&mut out) {
+            let t = table.0.as_ptr();
+            let low = _mm512_permutex2var_ps(_mm512_load_ps(t), index, _mm512_load_ps(t.add(16)));
+            let high =
+                _mm512_permutex2var_ps(_mm512_load_ps(t.add(32)), index, _mm512_load_ps(t.add(48)));
+            _mm512_storeu_ps(out.as_mut_ptr(), _mm512_mask_blend_ps(upper, low, high));
+        }
+    }
+    out
 }
 
 /// The paths of a group of pixels in flight, one per lane, in
@@ -328,26 +366,22 @@ fn segment(s: &WavefrontScene, p: &mut Paths, samplers: &mut [Sampler]) {
     let mut pmf_per_area = [0.0f32; LANES];
     let mut two_sided = [false; LANES];
     for i in 0..LANES {
-        let k = if p.live[i] { tri[i] as usize } else { 0 };
-        // SAFETY: k is a triangle index; the tables have one entry each.
-        let (c, n, al, e) = unsafe {
-            pmf_per_area[i] = at(&s.pmf_per_area, k);
-            two_sided[i] = at(&s.double_sided, k);
-            (
-                at(s.corners, k),
-                at(&s.normal, k),
-                at(&s.albedo, k),
-                at(&s.emission, k),
-            )
-        };
+        tri[i] = if p.live[i] { tri[i] } else { 0 };
+    }
+    // SAFETY: AVX-512F (`trace_group`'s contract); triangle indices.
+    let g = unsafe { gather(&s.tables, &tri) };
+    for i in 0..LANES {
+        pmf_per_area[i] = g[PMF_PER_AREA][i];
+        two_sided[i] = g[TWO_SIDED][i] != 0.0;
         let (b1, b2) = (bary[0][i], bary[1][i]);
-        // Interpolating the corners is more accurate than o + t d.
-        let q = c[0] * (1.0 - b1 - b2) + c[1] * b1 + c[2] * b2;
+        let b0 = 1.0 - b1 - b2;
         for a in 0..3 {
-            point[a][i] = q[a];
-            ng[a][i] = n[a];
-            albedo[a][i] = al[a];
-            emitted[a][i] = e[a];
+            // Interpolating the corners is more accurate than o + t d.
+            let c = |v: usize| g[CORNERS + 3 * v + a][i];
+            point[a][i] = c(0) * b0 + c(1) * b1 + c(2) * b2;
+            ng[a][i] = g[NORMAL + a][i];
+            albedo[a][i] = g[ALBEDO + a][i];
+            emitted[a][i] = g[EMISSION + a][i];
         }
     }
     // Emission reached by this segment, weighted against next-event
@@ -401,6 +435,7 @@ fn segment(s: &WavefrontScene, p: &mut Paths, samplers: &mut [Sampler]) {
     let mut le = [[0.0f32; LANES]; 3];
     let mut l_pmf_per_area = [0.0f32; LANES];
     let mut l_two_sided = [false; LANES];
+    let mut light = [0u32; LANES];
     let last = s.lights.len() - 1;
     for i in 0..LANES {
         // The light: the first whose running sum exceeds u × total, as
@@ -411,21 +446,21 @@ fn segment(s: &WavefrontScene, p: &mut Paths, samplers: &mut [Sampler]) {
         for &c in &s.running_sums[..last] {
             j += (c <= target) as usize;
         }
-        // SAFETY: j ≤ last < lights.len(); lights are triangle indices.
-        unsafe {
-            let k = at(&s.lights, j) as usize;
-            let c = at(s.corners, k);
-            let (n, e) = (at(&s.normal, k), at(&s.emission, k));
-            for a in 0..3 {
-                for (v, corner) in c.iter().enumerate() {
-                    lc[v][a][i] = corner[a];
-                }
-                ln[a][i] = n[a];
-                le[a][i] = e[a];
+        // SAFETY: j ≤ last < lights.len().
+        light[i] = unsafe { at(&s.lights, j) };
+    }
+    // SAFETY: AVX-512F (`trace_group`'s contract); triangle indices.
+    let g = unsafe { gather(&s.tables, &light) };
+    for i in 0..LANES {
+        for a in 0..3 {
+            for v in 0..3 {
+                lc[v][a][i] = g[CORNERS + 3 * v + a][i];
             }
-            l_pmf_per_area[i] = at(&s.pmf_per_area, k);
-            l_two_sided[i] = at(&s.double_sided, k);
+            ln[a][i] = g[NORMAL + a][i];
+            le[a][i] = g[EMISSION + a][i];
         }
+        l_pmf_per_area[i] = g[PMF_PER_AREA][i];
+        l_two_sided[i] = g[TWO_SIDED][i] != 0.0;
     }
     let mut shadow_origin = [[0.0f32; LANES]; 3];
     let mut wi = [[0.0f32; LANES]; 3];
