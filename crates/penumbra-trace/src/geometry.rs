@@ -251,6 +251,18 @@ impl SceneGeometry {
         )
     }
 
+    /// The vertex normals at `triangle`'s corners in world space (the
+    /// mesh's normals under the instance's normal matrix, not normalised),
+    /// or `None` for a mesh without normals (shaded flat): what
+    /// [`Self::surface_point`] interpolates for the shading normal.
+    pub fn corner_normals(&self, scene: &Scene, triangle: u32) -> Option<[Vec3; 3]> {
+        let src = self.sources[triangle as usize];
+        let mesh = &scene.meshes[scene.instances[src.instance as usize].mesh];
+        let normals = mesh.normals.as_deref()?;
+        let m = self.instances[src.instance as usize].normal_matrix;
+        Some(mesh.indices[src.local as usize].map(|i| m * normals[i as usize]))
+    }
+
     /// Material of a triangle.
     pub fn material_of(&self, triangle: u32) -> MaterialId {
         self.instances[self.sources[triangle as usize].instance as usize].material

@@ -16,32 +16,38 @@
 //! rounding differs).
 //!
 //! Scope, checked by [`WavefrontScene::new`] (other scenes take the scalar
-//! integrator): the `path` integrator without AOVs; at most
-//! [`scan::MAX_TRIANGLES`] triangles, traced by testing every triangle
-//! ([`TriangleScan`]); Lambert surfaces with flat normals and without
-//! textures or vertex colours; light from emissive triangles only (no
-//! environment, abstract or analytic area lights); a CPU with AVX-512.
-//! `PENUMBRA_SCALAR_PATHS=1` (or [`crate::RenderOptions::scalar_paths`])
-//! keeps the scalar integrator for comparisons.
+//! integrator): the `path` integrator without AOVs; Lambert and smooth
+//! dielectric surfaces (exact Fresnel), shaded flat or with interpolated
+//! vertex normals, without textures or vertex colours; light from emissive
+//! triangles only (no environment, abstract or analytic area lights); a
+//! CPU with AVX-512. `PENUMBRA_SCALAR_PATHS=1` (or
+//! [`crate::RenderOptions::scalar_paths`]) keeps the scalar integrator for
+//! comparisons.
 //!
-//! One of the crate's modules with `unsafe` code: the AVX-512 entry point
-//! and table reads without bounds checks (a checked read's branch would
-//! keep a lane loop from vectorising).
+//! Rays meet the scene in two parts ([`Tracer`]): the smallest objects, up
+//! to [`scan::MAX_TRIANGLES`] triangles in all, are tested triangle by
+//! triangle ([`TriangleScan`], sixteen at once: a room's walls, which
+//! most rays hit), and the rest through a BVH of their own (a glass
+//! sphere's thousands of triangles, whose box most rays miss).
+//!
+//! One of the crate's modules with `unsafe` code: the AVX-512 entry point,
+//! the attribute reads (register permutes, gathers) and table reads
+//! without bounds checks (a checked read's branch would keep a lane loop
+//! from vectorising).
 #![allow(unsafe_code)]
 // Lane loops index several structure-of-arrays fields by lane: the form
 // that vectorises plainly.
 #![allow(clippy::needless_range_loop)]
 
-use crate::accel::WatertightRay;
 use crate::accel::scan::{self, TriangleScan};
+use crate::accel::{Accel, BuildQuality, WatertightRay};
 use crate::geometry::SceneGeometry;
 use crate::lights::LightSampler;
-use crate::ray::offset_coordinate;
+use crate::ray::{Ray, offset_coordinate};
 use glam::{Vec2, Vec3};
 use penumbra_image::film::FilmTile;
 use penumbra_scene::{FilmRays, IntegratorKind, RenderSettings, Scene};
-use penumbra_shading::Frame;
-use penumbra_shading::bsdf::Bsdf;
+use penumbra_shading::bsdf::{Bsdf, FresnelModel};
 use penumbra_shading::sampling::{
     Sampler, power_heuristic, square_to_cosine_hemisphere, square_to_triangle,
 };
@@ -57,40 +63,325 @@ use super::path::{RR_START_DEPTH, rr_survival};
 type F = [f32; LANES];
 type B = [bool; LANES];
 
-/// One attribute component of every triangle, a table that sixteen lanes
-/// read with two-register permutes instead of a gather.
+/// 64 entries of one attribute component, four aligned registers.
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(64))]
-struct Table([f32; scan::MAX_TRIANGLES]);
+struct Block([f32; 64]);
 
-// The permutes read 32 entries of two registers; two of them, 64.
-const _: () = assert!(scan::MAX_TRIANGLES == 64, "a table is four registers");
+/// The attribute components of every triangle, one table each ([`Block`]s
+/// of 64 triangles): scenes of at most 64 triangles are read by sixteen
+/// lanes with two-register permutes, larger ones with gathers.
+#[derive(Debug)]
+struct Tables {
+    /// Blocks per table.
+    blocks: usize,
+    /// Table `a`'s block `k` at `a × blocks + k`.
+    data: Vec<Block>,
+}
 
-/// The tables, in [`WavefrontScene::tables`]: corner c's axis a at
-/// `CORNERS + 3c + a`, then the unit front normal, albedo and emission
-/// (three components each), the probability of being chosen as a light
-/// over the triangle's area (0 for a non-emitter: a light sample's pdf is
-/// this × d² / |cos θ_light|), and 1 for a two-sided surface, else 0.
+/// The tables' components: corner c's axis a at `CORNERS + 3c + a`; the
+/// unit front normal; the vertex normals at the corners (`SHADING + 3c +
+/// a`, all 0 for a flat triangle, whose shading normal is the face's);
+/// the Lambert albedo or the dielectric's tint; the emission; the
+/// probability of being chosen as a light over the triangle's area (0 for
+/// a non-emitter: a light sample's pdf is this × d² / |cos θ_light|); 1 for
+/// a two-sided surface, else 0; the dielectric's relative index η, 0 for a
+/// Lambert surface.
 const CORNERS: usize = 0;
 const NORMAL: usize = 9;
-const ALBEDO: usize = 12;
-const EMISSION: usize = 15;
-const PMF_PER_AREA: usize = 18;
-const TWO_SIDED: usize = 19;
-const ATTRIBUTES: usize = 20;
+const SHADING: usize = 12;
+const ALBEDO: usize = 21;
+const EMISSION: usize = 24;
+const PMF_PER_AREA: usize = 27;
+const TWO_SIDED: usize = 28;
+const ETA: usize = 29;
+const ATTRIBUTES: usize = 30;
+
+/// The components a surface hit reads: all of them.
+const HIT_READS: [usize; ATTRIBUTES] = {
+    let mut r = [0; ATTRIBUTES];
+    let mut k = 0;
+    while k < ATTRIBUTES {
+        r[k] = k;
+        k += 1;
+    }
+    r
+};
+
+/// The components a light sample reads: corners, normal, emission, pmf,
+/// two-sidedness, in this order.
+const LIGHT_READS: [usize; 17] = [
+    CORNERS,
+    CORNERS + 1,
+    CORNERS + 2,
+    CORNERS + 3,
+    CORNERS + 4,
+    CORNERS + 5,
+    CORNERS + 6,
+    CORNERS + 7,
+    CORNERS + 8,
+    NORMAL,
+    NORMAL + 1,
+    NORMAL + 2,
+    EMISSION,
+    EMISSION + 1,
+    EMISSION + 2,
+    PMF_PER_AREA,
+    TWO_SIDED,
+];
+
+// The permutes read 32 entries of two registers; two of them, a block.
+const _: () = assert!(
+    scan::MAX_TRIANGLES == 64,
+    "the scan's triangles fit one block"
+);
+
+impl Tables {
+    fn new(triangles: usize) -> Self {
+        let blocks = triangles.div_ceil(64).max(1);
+        Tables {
+            blocks,
+            data: vec![Block([0.0; 64]); ATTRIBUTES * blocks],
+        }
+    }
+
+    fn set(&mut self, attribute: usize, triangle: usize, value: f32) {
+        self.data[attribute * self.blocks + triangle / 64].0[triangle % 64] = value;
+    }
+
+    /// The components `which` of the triangles `index` (one a lane, each
+    /// below the triangle count).
+    ///
+    /// # Safety
+    /// The CPU must support AVX-512F.
+    #[inline(always)]
+    unsafe fn read<const K: usize>(&self, which: &[usize; K], index: &[u32; LANES]) -> [F; K] {
+        use std::arch::x86_64::*;
+        let mut out = [[0.0f32; LANES]; K];
+        // SAFETY: AVX-512F (the caller's contract); with one block, each
+        // table is 64 aligned f32 read as four aligned registers; with
+        // more, the gather reads entry `index < triangles ≤ 64 × blocks`
+        // of table `a`; 16 values written.
+        unsafe {
+            let vindex = _mm512_loadu_si512(index.as_ptr().cast());
+            if self.blocks == 1 {
+                let upper = _mm512_test_epi32_mask(vindex, _mm512_set1_epi32(32));
+                for (&a, out) in which.iter().zip(&mut out) {
+                    let t = self.data.as_ptr().add(a).cast::<f32>();
+                    let low = _mm512_permutex2var_ps(
+                        _mm512_load_ps(t),
+                        vindex,
+                        _mm512_load_ps(t.add(16)),
+                    );
+                    let high = _mm512_permutex2var_ps(
+                        _mm512_load_ps(t.add(32)),
+                        vindex,
+                        _mm512_load_ps(t.add(48)),
+                    );
+                    _mm512_storeu_ps(out.as_mut_ptr(), _mm512_mask_blend_ps(upper, low, high));
+                }
+            } else {
+                for (&a, out) in which.iter().zip(&mut out) {
+                    let t = self.data.as_ptr().add(a * self.blocks).cast::<f32>();
+                    _mm512_storeu_ps(out.as_mut_ptr(), _mm512_i32gather_ps::<4>(vindex, t));
+                }
+            }
+        }
+        out
+    }
+}
+
+/// Where rays meet the scene: the scan of the smallest objects and a BVH
+/// of the rest, each holding scene triangle indices for its own, with the
+/// BVH's bounds padded (a slab test of sixteen lanes keeps the rays that
+/// miss them out of the BVH).
+#[derive(Debug)]
+struct Tracer {
+    scan: Option<(TriangleScan, Vec<u32>)>,
+    bvh: Option<(Accel, Vec<u32>, [[f32; 3]; 2])>,
+}
+
+/// The lanes whose ray `o + t d` may meet the box `[lo, hi]` in (0,
+/// `tmax`), by the slab test; conservative, as the box is padded far
+/// beyond the test's rounding. (A NaN slab distance, 0 × ∞, comes only
+/// from a ray parallel to a padded face that starts in its plane, outside
+/// every triangle; `min` and `max` pass over it.)
+#[inline(always)]
+fn slabs(o: &[F; 3], d: &[F; 3], tmax: &F, [lo, hi]: &[[f32; 3]; 2]) -> B {
+    let mut maybe = [false; LANES];
+    for i in 0..LANES {
+        let mut enter = 0.0f32;
+        let mut exit = tmax[i];
+        for a in 0..3 {
+            let inv = 1.0 / d[a][i];
+            let t0 = (lo[a] - o[a][i]) * inv;
+            let t1 = (hi[a] - o[a][i]) * inv;
+            enter = enter.max(t0.min(t1));
+            exit = exit.min(t0.max(t1));
+        }
+        maybe[i] = enter <= exit;
+    }
+    maybe
+}
+
+impl Tracer {
+    /// The scene's triangles split by object: objects in increasing order
+    /// of size to the scan while they fit, the rest to a BVH. `None` where
+    /// a triangle the BVH would hold culls its back faces for camera rays
+    /// (only the scan does that).
+    fn new(
+        geometry: &SceneGeometry,
+        scene: &Scene,
+        normals: &[Vec3],
+        culls: &[bool],
+    ) -> Option<Self> {
+        let mut objects: Vec<_> = (0..scene.instances.len())
+            .map(|i| geometry.instance_triangles(i))
+            .collect();
+        objects.sort_by_key(|r| r.len());
+        let (mut scanned, mut rest) = (Vec::new(), Vec::new());
+        for r in objects {
+            if scanned.len() + r.len() <= scan::MAX_TRIANGLES {
+                scanned.extend(r);
+            } else {
+                rest.extend(r);
+            }
+        }
+        // Of equal distances the scan keeps the lowest index, as the scalar
+        // integrator's order would.
+        scanned.sort_unstable();
+        rest.sort_unstable();
+        if rest.iter().any(|&t| culls[t as usize]) {
+            return None;
+        }
+        let pick = |ids: &[u32]| -> Vec<[Vec3; 3]> {
+            ids.iter()
+                .map(|&t| geometry.triangles[t as usize])
+                .collect()
+        };
+        let scan = if scanned.is_empty() {
+            None
+        } else {
+            let n: Vec<Vec3> = scanned.iter().map(|&t| normals[t as usize]).collect();
+            let c: Vec<bool> = scanned.iter().map(|&t| culls[t as usize]).collect();
+            Some((TriangleScan::new(&pick(&scanned), &n, &c)?, scanned))
+        };
+        let bvh = if rest.is_empty() {
+            None
+        } else {
+            let triangles = pick(&rest);
+            let (mut lo, mut hi) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
+            for p in triangles.iter().flatten() {
+                (lo, hi) = (lo.min(*p), hi.max(*p));
+            }
+            // Padded by a thousandth of the extent and of the coordinates,
+            // far beyond the slab test's rounding.
+            let pad = 1e-3 * ((hi - lo).max_element() + lo.abs().max(hi.abs()).max_element());
+            let (lo, hi) = (lo - pad, hi + pad);
+            let bounds = [lo.to_array(), hi.to_array()];
+            Some((Accel::build(&triangles, BuildQuality::Medium), rest, bounds))
+        };
+        Some(Tracer { scan, bvh })
+    }
+
+    /// The closest hits of the `live` lanes' rays `o + t d`: scene
+    /// triangle and barycentrics, in `tri` and `bary`; lanes whose ray
+    /// meets nothing leave `live`. `camera` passes through the back faces
+    /// of triangles that cull them.
+    ///
+    /// # Safety
+    /// The CPU must support AVX-512F.
+    #[inline(always)]
+    unsafe fn closest(
+        &self,
+        (o, d): (&[F; 3], &[F; 3]),
+        camera: &B,
+        live: &mut B,
+        tri: &mut [u32; LANES],
+        bary: &mut [F; 2],
+    ) {
+        let lane = |v: &[F; 3], i: usize| Vec3::new(v[0][i], v[1][i], v[2][i]);
+        let mut tmax = [f32::INFINITY; LANES];
+        let mut found = [false; LANES];
+        if let Some((scan, ids)) = &self.scan {
+            for i in 0..LANES {
+                if !live[i] {
+                    continue;
+                }
+                let ray = WatertightRay::new(lane(o, i), lane(d, i));
+                // SAFETY: AVX-512F (the caller's contract); the scan's
+                // indices are below `ids.len()`.
+                unsafe {
+                    if let Some((k, h)) = scan.closest_avx512(&ray, lane(d, i), tmax[i], camera[i])
+                    {
+                        tmax[i] = h.t;
+                        tri[i] = at(ids, k as usize);
+                        [bary[0][i], bary[1][i]] = [h.b1, h.b2];
+                        found[i] = true;
+                    }
+                }
+            }
+        }
+        if let Some((bvh, ids, bounds)) = &self.bvh {
+            let maybe = slabs(o, d, &tmax, bounds);
+            for i in 0..LANES {
+                if !(live[i] & maybe[i]) {
+                    continue;
+                }
+                if let Some(h) = bvh.intersect(&Ray::segment(lane(o, i), lane(d, i), tmax[i])) {
+                    // SAFETY: the BVH's indices are below `ids.len()`.
+                    tri[i] = unsafe { at(ids, h.triangle as usize) };
+                    [bary[0][i], bary[1][i]] = [h.b1, h.b2];
+                    found[i] = true;
+                }
+            }
+        }
+        for i in 0..LANES {
+            live[i] &= found[i];
+        }
+    }
+
+    /// Which of the `shadow` lanes' rays `o + t d` meet nothing in (0,
+    /// `tmax`): the others leave `shadow`.
+    ///
+    /// # Safety
+    /// The CPU must support AVX-512F.
+    #[inline(always)]
+    unsafe fn unoccluded(&self, (o, d): (&[F; 3], &[F; 3]), tmax: &F, shadow: &mut B) {
+        let lane = |v: &[F; 3], i: usize| Vec3::new(v[0][i], v[1][i], v[2][i]);
+        if let Some((scan, _)) = &self.scan {
+            for i in 0..LANES {
+                if !shadow[i] {
+                    continue;
+                }
+                let ray = WatertightRay::new(lane(o, i), lane(d, i));
+                // SAFETY: AVX-512F (the caller's contract).
+                shadow[i] = !unsafe { scan.occluded_avx512(&ray, tmax[i]) };
+            }
+        }
+        if let Some((bvh, _, bounds)) = &self.bvh {
+            let maybe = slabs(o, d, tmax, bounds);
+            for i in 0..LANES {
+                if shadow[i] & maybe[i] {
+                    shadow[i] = !bvh.occluded(&Ray::segment(lane(o, i), lane(d, i), tmax[i]));
+                }
+            }
+        }
+    }
+}
 
 /// What the lanes read of the scene: the triangles' attributes as tables;
 /// the light sampler's emissive triangles with the running sums of their
-/// weights; the scan.
+/// weights; the tracer.
 #[derive(Debug)]
 pub(crate) struct WavefrontScene {
-    tables: Box<[Table; ATTRIBUTES]>,
+    tables: Tables,
     /// The light sampler's choices (triangles), the running sums of their
     /// weights and the total, as `Distribution1D::sample` reads them.
     lights: Vec<u32>,
     running_sums: Vec<f64>,
     total_weight: f64,
-    scan: TriangleScan,
+    tracer: Tracer,
     max_depth: u32,
 }
 
@@ -125,7 +416,7 @@ impl WavefrontScene {
         if !cpu
             || settings.integrator != IntegratorKind::Path
             || n == 0
-            || n > scan::MAX_TRIANGLES
+            || n > u32::MAX as usize / 2
             || !scene.lights.is_empty()
             || !scene.area_lights.is_empty()
             || scene.environment_map.is_some()
@@ -133,13 +424,17 @@ impl WavefrontScene {
         {
             return None;
         }
-        let mut tables = Box::new([Table([0.0; scan::MAX_TRIANGLES]); ATTRIBUTES]);
+        let mut tables = Tables::new(n);
         let mut normal = Vec::with_capacity(n);
         let mut culls = Vec::with_capacity(n);
         for t in 0..n as u32 {
             let m = &scene.materials[geometry.material_of(t)];
-            let Bsdf::Lambert(lambert) = m.bsdf else {
-                return None;
+            let (albedo, eta) = match m.bsdf {
+                Bsdf::Lambert(l) => (l.albedo, 0.0),
+                Bsdf::Dielectric(d) if d.fresnel == FresnelModel::Exact && d.eta > 0.0 => {
+                    (d.tint, d.eta)
+                }
+                _ => return None,
             };
             if m.albedo_texture.is_some()
                 || m.emission_texture.is_some()
@@ -148,25 +443,26 @@ impl WavefrontScene {
             {
                 return None;
             }
-            let ng = geometry.front_normal_scaled(t).normalize_or_zero();
-            // Flat and plain: the shading normal is the face's, and no
-            // vertex colour tints it, at every corner (so everywhere).
+            // No vertex colour tints it, at any corner (so anywhere).
             for (b1, b2) in [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)] {
-                let h = geometry.surface_point(scene, t, b1, b2);
-                if h.color != Vec3::ONE || h.ns != ng {
+                if geometry.surface_point(scene, t, b1, b2).color != Vec3::ONE {
                     return None;
                 }
             }
+            let ng = geometry.front_normal_scaled(t).normalize_or_zero();
             let k = t as usize;
+            let shading = geometry.corner_normals(scene, t).unwrap_or([Vec3::ZERO; 3]);
             for a in 0..3 {
-                for (c, corner) in geometry.triangles[k].iter().enumerate() {
-                    tables[CORNERS + 3 * c + a].0[k] = corner[a];
+                for c in 0..3 {
+                    tables.set(CORNERS + 3 * c + a, k, geometry.triangles[k][c][a]);
+                    tables.set(SHADING + 3 * c + a, k, shading[c][a]);
                 }
-                tables[NORMAL + a].0[k] = ng[a];
-                tables[ALBEDO + a].0[k] = lambert.albedo[a];
-                tables[EMISSION + a].0[k] = m.emission[a];
+                tables.set(NORMAL + a, k, ng[a]);
+                tables.set(ALBEDO + a, k, albedo[a]);
+                tables.set(EMISSION + a, k, m.emission[a]);
             }
-            tables[TWO_SIDED].0[k] = if m.double_sided { 1.0 } else { 0.0 };
+            tables.set(TWO_SIDED, k, if m.double_sided { 1.0 } else { 0.0 });
+            tables.set(ETA, k, eta);
             normal.push(ng);
             culls.push(m.cull_back_faces);
         }
@@ -177,10 +473,11 @@ impl WavefrontScene {
             return None;
         }
         for (entry, &t) in lights.iter().enumerate() {
-            tables[PMF_PER_AREA].0[t as usize] = distribution.pmf(entry) / geometry.area(t);
+            let pmf = distribution.pmf(entry) / geometry.area(t);
+            tables.set(PMF_PER_AREA, t as usize, pmf);
         }
         Some(WavefrontScene {
-            scan: TriangleScan::new(&geometry.triangles, &normal, &culls)?,
+            tracer: Tracer::new(geometry, scene, &normal, &culls)?,
             tables,
             lights,
             running_sums: running_sums.to_vec(),
@@ -201,32 +498,6 @@ unsafe fn at<T: Copy>(v: &[T], k: usize) -> T {
     unsafe { *v.get_unchecked(k) }
 }
 
-/// Every attribute of the triangles `index` (one a lane, each below
-/// [`scan::MAX_TRIANGLES`]): per table, entries 0–31 and 32–63 permuted
-/// from two registers each, then chosen by bit 5 of the index.
-///
-/// # Safety
-/// The CPU must support AVX-512F.
-#[inline(always)]
-unsafe fn gather(tables: &[Table; ATTRIBUTES], index: &[u32; LANES]) -> [F; ATTRIBUTES] {
-    use std::arch::x86_64::*;
-    let mut out = [[0.0f32; LANES]; ATTRIBUTES];
-    // SAFETY: AVX-512F (the caller's contract); each table is 64 aligned
-    // f32, read as four aligned registers; 16 values read and written.
-    unsafe {
-        let index = _mm512_loadu_si512(index.as_ptr().cast());
-        let upper = _mm512_test_epi32_mask(index, _mm512_set1_epi32(32));
-        for (table, out) in tables.iter().zip(&mut out) {
-            let t = table.0.as_ptr();
-            let low = _mm512_permutex2var_ps(_mm512_load_ps(t), index, _mm512_load_ps(t.add(16)));
-            let high =
-                _mm512_permutex2var_ps(_mm512_load_ps(t.add(32)), index, _mm512_load_ps(t.add(48)));
-            _mm512_storeu_ps(out.as_mut_ptr(), _mm512_mask_blend_ps(upper, low, high));
-        }
-    }
-    out
-}
-
 /// The paths of a group of pixels in flight, one per lane, in
 /// structure-of-arrays form (component, then lane).
 struct Paths {
@@ -239,6 +510,8 @@ struct Paths {
     dir: [F; 3],
     radiance: [F; 3],
     beta: [F; 3],
+    /// Product of η² over the refractions so far (`path::PathState`'s).
+    eta_scale: F,
     /// Solid-angle pdf of the BSDF sample that made the ray; 0 for a
     /// camera ray (emitters it hits get weight 1).
     prev_pdf: F,
@@ -276,6 +549,7 @@ unsafe fn trace_group(
         dir: [[0.0; LANES]; 3],
         radiance: [[0.0; LANES]; 3],
         beta: [[1.0; LANES]; 3],
+        eta_scale: [1.0; LANES],
         prev_pdf: [0.0; LANES],
         prev_point: [[0.0; LANES]; 3],
         depth: [1; LANES],
@@ -310,6 +584,7 @@ unsafe fn trace_group(
                     p.radiance[a][i] = 0.0;
                     p.beta[a][i] = 1.0;
                 }
+                p.eta_scale[i] = 1.0;
                 p.prev_pdf[i] = 0.0;
                 p.depth[i] = 1;
                 p.camera_hit[i] = false;
@@ -330,66 +605,74 @@ unsafe fn trace_group(
 /// makes the next ray (or the path's end).
 #[inline(always)]
 fn segment(s: &WavefrontScene, p: &mut Paths, samplers: &mut [Sampler]) {
-    // Closest hits, lane by lane (each scan tests 16 triangles at once).
+    // Closest hits.
     let mut tri = [0u32; LANES];
     let mut bary = [[0.0f32; LANES]; 2];
-    let mut rays = 0;
-    for i in 0..LANES {
-        if !p.live[i] {
-            continue;
-        }
-        rays += 1;
-        let o = Vec3::new(p.origin[0][i], p.origin[1][i], p.origin[2][i]);
-        let d = Vec3::new(p.dir[0][i], p.dir[1][i], p.dir[2][i]);
-        let ray = WatertightRay::new(o, d);
-        // SAFETY: AVX-512F (`trace_group`'s contract).
-        match unsafe {
-            s.scan
-                .closest_avx512(&ray, d, f32::INFINITY, p.depth[i] == 1)
-        } {
-            Some((t, h)) => {
-                tri[i] = t;
-                bary[0][i] = h.b1;
-                bary[1][i] = h.b2;
-                p.camera_hit[i] |= p.depth[i] == 1;
-            }
-            None => p.live[i] = false,
-        }
+    let camera: B = p.depth.map(|d| d == 1);
+    crate::stats::count_rays(p.live.iter().filter(|&&l| l).count() as u64);
+    // SAFETY: AVX-512F (`trace_group`'s contract).
+    unsafe {
+        s.tracer.closest(
+            (&p.origin, &p.dir),
+            &camera,
+            &mut p.live,
+            &mut tri,
+            &mut bary,
+        );
     }
-    crate::stats::count_rays(rays);
-    // The hits' surfaces, gathered lane by lane (dead lanes read
-    // triangle 0, whose values no live result uses).
-    let mut point = [[0.0f32; LANES]; 3];
-    let mut ng = [[0.0f32; LANES]; 3];
-    let mut albedo = [[0.0f32; LANES]; 3];
-    let mut emitted = [[0.0f32; LANES]; 3];
-    let mut pmf_per_area = [0.0f32; LANES];
-    let mut two_sided = [false; LANES];
+    for i in 0..LANES {
+        p.camera_hit[i] |= p.live[i] & camera[i];
+    }
+    // The hits' surfaces (dead lanes read triangle 0, whose values no
+    // live result uses).
     for i in 0..LANES {
         tri[i] = if p.live[i] { tri[i] } else { 0 };
     }
     // SAFETY: AVX-512F (`trace_group`'s contract); triangle indices.
-    let g = unsafe { gather(&s.tables, &tri) };
+    let g = unsafe { s.tables.read(&HIT_READS, &tri) };
+    let mut point = [[0.0f32; LANES]; 3];
+    let mut ng = [[0.0f32; LANES]; 3];
+    let mut ns = [[0.0f32; LANES]; 3];
     for i in 0..LANES {
-        pmf_per_area[i] = g[PMF_PER_AREA][i];
-        two_sided[i] = g[TWO_SIDED][i] != 0.0;
         let (b1, b2) = (bary[0][i], bary[1][i]);
         let b0 = 1.0 - b1 - b2;
+        let mut raw = [0.0f32; 3];
         for a in 0..3 {
             // Interpolating the corners is more accurate than o + t d.
             let c = |v: usize| g[CORNERS + 3 * v + a][i];
             point[a][i] = c(0) * b0 + c(1) * b1 + c(2) * b2;
             ng[a][i] = g[NORMAL + a][i];
-            albedo[a][i] = g[ALBEDO + a][i];
-            emitted[a][i] = g[EMISSION + a][i];
+            let n = |v: usize| g[SHADING + 3 * v + a][i];
+            raw[a] = n(0) * b0 + n(1) * b1 + n(2) * b2;
+        }
+        // The shading normal as `SceneGeometry::surface_point`'s: the
+        // vertex normals interpolated and normalised (the face's where
+        // that fails: a flat triangle's are 0), on the face's side.
+        let rcp = 1.0 / (raw[0] * raw[0] + raw[1] * raw[1] + raw[2] * raw[2]).sqrt();
+        let smooth = rcp.is_finite() & (rcp > 0.0);
+        let mut n = [0.0f32; 3];
+        for a in 0..3 {
+            n[a] = if smooth { raw[a] * rcp } else { ng[a][i] };
+        }
+        let flip = n[0] * ng[0][i] + n[1] * ng[1][i] + n[2] * ng[2][i] < 0.0;
+        for a in 0..3 {
+            ns[a][i] = if flip { -n[a] } else { n[a] };
         }
     }
+    let albedo: [F; 3] = [g[ALBEDO], g[ALBEDO + 1], g[ALBEDO + 2]];
+    let mut eta = g[ETA];
+    let dielectric: B = eta.map(|e| e != 0.0);
     // Emission reached by this segment, weighted against next-event
-    // estimation; the normal turned towards the ray's origin.
+    // estimation; then the surface seen from the ray's side, as
+    // `TraceContext::shading` sees it, in its shading frame.
+    let mut frame_s = [[0.0f32; LANES]; 3];
+    let mut frame_t = [[0.0f32; LANES]; 3];
+    let mut wo_local = [[0.0f32; LANES]; 3];
     for i in 0..LANES {
+        let two_sided = g[TWO_SIDED][i] != 0.0;
         let dn = p.dir[0][i] * ng[0][i] + p.dir[1][i] * ng[1][i] + p.dir[2][i] * ng[2][i];
         let front = dn < 0.0;
-        let emits = p.live[i] & (two_sided[i] | front);
+        let emits = p.live[i] & (two_sided | front);
         let mut dist2 = 0.0;
         for a in 0..3 {
             let d = point[a][i] - p.prev_point[a][i];
@@ -397,7 +680,7 @@ fn segment(s: &WavefrontScene, p: &mut Paths, samplers: &mut [Sampler]) {
         }
         let cos = dn.abs();
         let light_pdf = if cos > 1e-7 {
-            pmf_per_area[i] * dist2 / cos
+            g[PMF_PER_AREA][i] * dist2 / cos
         } else {
             0.0
         };
@@ -407,34 +690,62 @@ fn segment(s: &WavefrontScene, p: &mut Paths, samplers: &mut [Sampler]) {
             1.0
         };
         for a in 0..3 {
-            let add = p.beta[a][i] * emitted[a][i] * weight;
+            let add = p.beta[a][i] * g[EMISSION + a][i] * weight;
             // A select, not a product with 0: a dead lane's values may be
             // NaN.
             p.radiance[a][i] += if emits { add } else { 0.0 };
-            ng[a][i] = if front { ng[a][i] } else { -ng[a][i] };
         }
-        // One-sided surfaces are black from behind; black ones reflect
-        // nothing (a path ends there as `path::li`'s would add nothing).
-        let black = (albedo[0][i] == 0.0) & (albedo[1][i] == 0.0) & (albedo[2][i] == 0.0);
-        p.live[i] &= (front | two_sided[i]) & !black & (p.depth[i] < s.max_depth);
+        // From behind: one-sided opaque surfaces are black there; the
+        // others turn their normals, and a dielectric's index inverts.
+        let back = dn > 0.0;
+        for a in 0..3 {
+            ng[a][i] = if back { -ng[a][i] } else { ng[a][i] };
+            ns[a][i] = if back { -ns[a][i] } else { ns[a][i] };
+        }
+        eta[i] = if back { 1.0 / eta[i] } else { eta[i] };
+        // `Frame::from_normal`.
+        let n = [ns[0][i], ns[1][i], ns[2][i]];
+        let sign = 1.0f32.copysign(n[2]);
+        let fa = -1.0 / (sign + n[2]);
+        let fb = n[0] * n[1] * fa;
+        let fs = [1.0 + sign * n[0] * n[0] * fa, sign * fb, -sign * n[0]];
+        let ft = [fb, sign + n[1] * n[1] * fa, -n[1]];
+        let wo = [-p.dir[0][i], -p.dir[1][i], -p.dir[2][i]];
+        let mut w = [
+            wo[0] * fs[0] + wo[1] * fs[1] + wo[2] * fs[2],
+            wo[0] * ft[0] + wo[1] * ft[1] + wo[2] * ft[2],
+            wo[0] * n[0] + wo[1] * n[1] + wo[2] * n[2],
+        ];
+        // Below the shading hemisphere at a grazing angle: onto it.
+        if w[2] <= 0.0 {
+            w[2] = 1e-4;
+            let r = 1.0 / (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
+            w = w.map(|c| c * r);
+        }
+        for a in 0..3 {
+            frame_s[a][i] = fs[a];
+            frame_t[a][i] = ft[a];
+            wo_local[a][i] = w[a];
+        }
+        // Black Lambert surfaces reflect nothing (a path ends there as
+        // `path::li`'s would add nothing more).
+        let black =
+            !dielectric[i] & (albedo[0][i] == 0.0) & (albedo[1][i] == 0.0) & (albedo[2][i] == 0.0);
+        p.live[i] &= (!back | two_sided | dielectric[i]) & !black & (p.depth[i] < s.max_depth);
     }
     // Next-event estimation, its numbers drawn as `path::next_event` draws
-    // them.
+    // them (also where a dielectric then skips it).
     let mut u_select = [0.0f32; LANES];
+    let mut u_lobe = [0.0f32; LANES];
     let mut u_light = [[0.0f32; LANES]; 2];
     for i in 0..LANES {
         if p.live[i] {
-            // The lobe's number (unused: Lambert has one) shares the
-            // light choice's pair, as in `path::walk`.
-            [u_select[i], _] = samplers[i].next_2d();
+            // The light's and the lobe's choice share a pair, as in
+            // `path::walk`.
+            [u_select[i], u_lobe[i]] = samplers[i].next_2d();
             [u_light[0][i], u_light[1][i]] = samplers[i].next_2d();
         }
     }
-    let mut lc = [[[0.0f32; LANES]; 3]; 3];
-    let mut ln = [[0.0f32; LANES]; 3];
-    let mut le = [[0.0f32; LANES]; 3];
-    let mut l_pmf_per_area = [0.0f32; LANES];
-    let mut l_two_sided = [false; LANES];
     let mut light = [0u32; LANES];
     let last = s.lights.len() - 1;
     for i in 0..LANES {
@@ -442,26 +753,22 @@ fn segment(s: &WavefrontScene, p: &mut Paths, samplers: &mut [Sampler]) {
         // `Distribution1D::sample` (every weight is positive, so it is
         // the number of sums at or below it).
         let target = f64::from(u_select[i]) * s.total_weight;
-        let mut j = 0;
-        for &c in &s.running_sums[..last] {
-            j += (c <= target) as usize;
-        }
+        let sums = &s.running_sums[..last];
+        let j = if last <= 64 {
+            let mut j = 0;
+            for &c in sums {
+                j += (c <= target) as usize;
+            }
+            j
+        } else {
+            sums.partition_point(|&c| c <= target)
+        };
         // SAFETY: j ≤ last < lights.len().
         light[i] = unsafe { at(&s.lights, j) };
     }
     // SAFETY: AVX-512F (`trace_group`'s contract); triangle indices.
-    let g = unsafe { gather(&s.tables, &light) };
-    for i in 0..LANES {
-        for a in 0..3 {
-            for v in 0..3 {
-                lc[v][a][i] = g[CORNERS + 3 * v + a][i];
-            }
-            ln[a][i] = g[NORMAL + a][i];
-            le[a][i] = g[EMISSION + a][i];
-        }
-        l_pmf_per_area[i] = g[PMF_PER_AREA][i];
-        l_two_sided[i] = g[TWO_SIDED][i] != 0.0;
-    }
+    let l = unsafe { s.tables.read(&LIGHT_READS, &light) };
+    let (lc, ln, le) = (|v: usize, a: usize| 3 * v + a, 9, 12);
     let mut shadow_origin = [[0.0f32; LANES]; 3];
     let mut wi = [[0.0f32; LANES]; 3];
     let mut shadow_tmax = [0.0f32; LANES];
@@ -472,21 +779,36 @@ fn segment(s: &WavefrontScene, p: &mut Paths, samplers: &mut [Sampler]) {
         let Vec2 { x: b0, y: b1 } = square_to_triangle([u_light[0][i], u_light[1][i]]);
         let mut d = [0.0f32; 3];
         for a in 0..3 {
-            let q = lc[0][a][i] * (1.0 - b0 - b1) + lc[1][a][i] * b0 + lc[2][a][i] * b1;
+            let q = l[lc(0, a)][i] * (1.0 - b0 - b1) + l[lc(1, a)][i] * b0 + l[lc(2, a)][i] * b1;
             d[a] = q - point[a][i];
         }
         let dist2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
         let dist = dist2.sqrt();
         let w = d.map(|c| c / dist);
-        let cos_light = -(w[0] * ln[0][i] + w[1] * ln[1][i] + w[2] * ln[2][i]);
-        let lit_side = (cos_light > 0.0) | l_two_sided[i];
+        let cos_light = -(w[0] * l[ln][i] + w[1] * l[ln + 1][i] + w[2] * l[ln + 2][i]);
+        let lit_side = (cos_light > 0.0) | (l[16][i] != 0.0);
         let cos_light = cos_light.abs();
-        let cos = w[0] * ng[0][i] + w[1] * ng[1][i] + w[2] * ng[2][i];
-        let ok = p.live[i] & (dist2 > 0.0) & lit_side & (cos_light > 1e-7) & (cos > 0.0);
+        // `TraceContext::consistent_side` and a Lambert BSDF's support.
+        let wl = [
+            w[0] * frame_s[0][i] + w[1] * frame_s[1][i] + w[2] * frame_s[2][i],
+            w[0] * frame_t[0][i] + w[1] * frame_t[1][i] + w[2] * frame_t[2][i],
+            w[0] * ns[0][i] + w[1] * ns[1][i] + w[2] * ns[2][i],
+        ];
+        let gn = w[0] * ng[0][i] + w[1] * ng[1][i] + w[2] * ng[2][i];
+        let consistent = (gn != 0.0) & (wl[2] != 0.0) & ((gn > 0.0) == (wl[2] > 0.0));
+        let reflects = (wo_local[2][i] > 0.0) & (wl[2] > 0.0);
+        let ok = p.live[i]
+            & !dielectric[i]
+            & (dist2 > 0.0)
+            & lit_side
+            & (cos_light > 1e-7)
+            & consistent
+            & reflects;
         // Area density → solid angle, with the selection: pdf = P(light)
         // d² / (A |cos θ_light|).
-        let pdf = l_pmf_per_area[i] * dist2 / cos_light;
-        let weight = power_heuristic(pdf, cos * FRAC_1_PI);
+        let pdf = l[15][i] * dist2 / cos_light;
+        let cos = wl[2].abs();
+        let weight = power_heuristic(pdf, wl[2].max(0.0) * FRAC_1_PI);
         // f cos / pdf with f = albedo / π.
         let scale = if ok {
             cos * FRAC_1_PI * weight / pdf
@@ -494,7 +816,8 @@ fn segment(s: &WavefrontScene, p: &mut Paths, samplers: &mut [Sampler]) {
             0.0
         };
         for a in 0..3 {
-            contribution[a][i] = p.beta[a][i] * albedo[a][i] * le[a][i] * scale;
+            contribution[a][i] = p.beta[a][i] * albedo[a][i] * l[le + a][i] * scale;
+            // `wi` leaves on the (turned) geometric normal's side.
             shadow_origin[a][i] = offset_coordinate(point[a][i], ng[a][i]);
             wi[a][i] = w[a];
         }
@@ -502,30 +825,18 @@ fn segment(s: &WavefrontScene, p: &mut Paths, samplers: &mut [Sampler]) {
         shadow_tmax[i] = dist * (1.0 - 1e-4);
         shadow[i] = ok;
     }
-    let mut rays = 0;
-    for i in 0..LANES {
-        if !shadow[i] {
-            continue;
-        }
-        rays += 1;
-        let o = Vec3::new(
-            shadow_origin[0][i],
-            shadow_origin[1][i],
-            shadow_origin[2][i],
-        );
-        let ray = WatertightRay::new(o, Vec3::new(wi[0][i], wi[1][i], wi[2][i]));
-        // SAFETY: `trace_group` runs only where AVX-512 is (its contract).
-        if unsafe { s.scan.occluded_avx512(&ray, shadow_tmax[i]) } {
-            shadow[i] = false;
-        }
+    crate::stats::count_rays(shadow.iter().filter(|&&l| l).count() as u64);
+    // SAFETY: AVX-512F (`trace_group`'s contract).
+    unsafe {
+        s.tracer
+            .unoccluded((&shadow_origin, &wi), &shadow_tmax, &mut shadow);
     }
-    crate::stats::count_rays(rays);
     for i in 0..LANES {
         for a in 0..3 {
             p.radiance[a][i] += if shadow[i] { contribution[a][i] } else { 0.0 };
         }
     }
-    // BSDF sampling (cosine-weighted), then Russian roulette.
+    // BSDF sampling, then Russian roulette.
     let mut u_bsdf = [[0.0f32; LANES]; 2];
     let mut u_rr = [0.0f32; LANES];
     for i in 0..LANES {
@@ -538,29 +849,75 @@ fn segment(s: &WavefrontScene, p: &mut Paths, samplers: &mut [Sampler]) {
         }
     }
     for i in 0..LANES {
-        let local = square_to_cosine_hemisphere([u_bsdf[0][i], u_bsdf[1][i]]);
-        let n = Vec3::new(ng[0][i], ng[1][i], ng[2][i]);
-        let w = Frame::from_normal(n).to_world(local);
-        // On the normal's side, as `TraceContext::consistent_side`.
-        let mut alive = p.live[i] & (local.z > 0.0) & (w.dot(n) > 0.0);
+        let wo = [wo_local[0][i], wo_local[1][i], wo_local[2][i]];
+        // Lambert: a cosine-weighted direction, weight ρ.
+        let cosine = square_to_cosine_hemisphere([u_bsdf[0][i], u_bsdf[1][i]]);
+        let lambert_pdf = cosine.z.max(0.0) * FRAC_1_PI;
+        // Dielectric (`Dielectric::sample`): reflection with probability
+        // F (exact Fresnel), else refraction with weight tint / η²; F = 1
+        // under total internal reflection.
+        let e = eta[i];
+        let cos_i = wo[2].min(1.0);
+        let sin2_t = (1.0 - cos_i * cos_i) / (e * e);
+        let cos_t = (1.0 - sin2_t).max(0.0).sqrt();
+        let r_s = (cos_i - e * cos_t) / (cos_i + e * cos_t);
+        let r_p = (e * cos_i - cos_t) / (e * cos_i + cos_t);
+        let fresnel = if sin2_t >= 1.0 {
+            1.0
+        } else {
+            0.5 * (r_s * r_s + r_p * r_p)
+        };
+        // `refract(wo, z, η)`, normalised.
+        let disc = 1.0 - (1.0 - wo[2] * wo[2]) / (e * e);
+        let k = wo[2] / e - disc.max(0.0).sqrt();
+        let t = [-wo[0] / e, -wo[1] / e, -wo[2] / e + k];
+        let rt = 1.0 / (t[0] * t[0] + t[1] * t[1] + t[2] * t[2]).sqrt();
+        let transmits = (fresnel < 1.0) & (disc >= 0.0);
+        let refracts = transmits & (u_lobe[i] >= fresnel);
+        let local = if !dielectric[i] {
+            [cosine.x, cosine.y, cosine.z]
+        } else if refracts {
+            t.map(|c| c * rt)
+        } else {
+            [-wo[0], -wo[1], wo[2]]
+        };
+        let mut w = [0.0f32; 3];
         for a in 0..3 {
-            p.beta[a][i] *= albedo[a][i];
+            w[a] = frame_s[a][i] * local[0] + frame_t[a][i] * local[1] + ns[a][i] * local[2];
+        }
+        let gn = w[0] * ng[0][i] + w[1] * ng[1][i] + w[2] * ng[2][i];
+        let consistent = (gn != 0.0) & (local[2] != 0.0) & ((gn > 0.0) == (local[2] > 0.0));
+        let mut alive = p.live[i] & consistent & (dielectric[i] | (lambert_pdf > 0.0));
+        for a in 0..3 {
+            let weight = if !dielectric[i] {
+                albedo[a][i]
+            } else if refracts {
+                albedo[a][i] / (e * e)
+            } else {
+                1.0
+            };
+            p.beta[a][i] *= weight;
+        }
+        if refracts {
+            p.eta_scale[i] = p.eta_scale[i] * e * e;
         }
         let q = if p.depth[i] > RR_START_DEPTH {
-            // No refraction on Lambert surfaces: η² product 1.
             let beta = Vec3::new(p.beta[0][i], p.beta[1][i], p.beta[2][i]);
-            rr_survival(beta, 1.0)
+            rr_survival(beta, p.eta_scale[i])
         } else {
             1.0
         };
         alive &= u_rr[i] < q;
+        // `TraceContext::spawn`: off the surface on `w`'s side.
+        let side = if gn >= 0.0 { 1.0 } else { -1.0 };
         for a in 0..3 {
             p.beta[a][i] /= q;
-            p.origin[a][i] = offset_coordinate(point[a][i], n[a]);
+            p.origin[a][i] = offset_coordinate(point[a][i], side * ng[a][i]);
             p.dir[a][i] = w[a];
             p.prev_point[a][i] = point[a][i];
         }
-        p.prev_pdf[i] = local.z * FRAC_1_PI;
+        // After a delta lobe the emitter hit gets weight 1.
+        p.prev_pdf[i] = if dielectric[i] { 0.0 } else { lambert_pdf };
         p.live[i] = alive;
     }
 }
