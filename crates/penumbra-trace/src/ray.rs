@@ -53,12 +53,21 @@ pub fn offset_ray_origin(p: Vec3, n: Vec3) -> Vec3 {
 /// 256·n integer ulps away from zero's side, or n/65536 where |p| < 1/32.
 /// Without branches (both cases computed, one chosen), so that a loop over
 /// many points (the wavefront path tracer's lanes) vectorises.
+///
+/// The integer step is `(256 n) as i32` for |256 n| ≤ 2²² (n a normal's
+/// component), 0 for a NaN, converted without `as`'s saturating checks,
+/// which kept such loops scalar.
 #[inline(always)]
+#[allow(unsafe_code)]
 pub(crate) fn offset_coordinate(p: f32, n: f32) -> f32 {
     const ORIGIN: f32 = 1.0 / 32.0;
     const FLOAT_SCALE: f32 = 1.0 / 65536.0;
     const INT_SCALE: f32 = 256.0;
-    let of_i = (INT_SCALE * n) as i32;
+    const LIMIT: f32 = (1 << 22) as f32;
+    let x = (INT_SCALE * n).clamp(-LIMIT, LIMIT);
+    let x = if x.is_nan() { 0.0 } else { x };
+    // SAFETY: x is finite and within i32's range.
+    let of_i: i32 = unsafe { x.to_int_unchecked() };
     let bits = p.to_bits() as i32;
     let moved = if p < 0.0 {
         bits.wrapping_sub(of_i)

@@ -108,6 +108,22 @@ const HIT_READS: [usize; ATTRIBUTES] = {
     r
 };
 
+/// The components a hit on a scene of flat Lambert surfaces reads: all
+/// but the vertex normals and η.
+const FLAT_LAMBERT_READS: [usize; 20] = {
+    let mut r = [0; 20];
+    let mut k = 0;
+    while k < SHADING {
+        r[k] = k;
+        k += 1;
+    }
+    while k < 20 {
+        r[k] = k + (ALBEDO - SHADING);
+        k += 1;
+    }
+    r
+};
+
 /// The components a light sample reads: corners, normal, emission, pmf,
 /// two-sidedness, in this order.
 const LIGHT_READS: [usize; 17] = [
@@ -150,14 +166,18 @@ impl Tables {
     }
 
     /// The components `which` of the triangles `index` (one a lane, each
-    /// below the triangle count).
+    /// below the triangle count), each at its own place (the others 0).
     ///
     /// # Safety
     /// The CPU must support AVX-512F.
     #[inline(always)]
-    unsafe fn read<const K: usize>(&self, which: &[usize; K], index: &[u32; LANES]) -> [F; K] {
+    unsafe fn read<const K: usize>(
+        &self,
+        which: &[usize; K],
+        index: &[u32; LANES],
+    ) -> [F; ATTRIBUTES] {
         use std::arch::x86_64::*;
-        let mut out = [[0.0f32; LANES]; K];
+        let mut out = [[0.0f32; LANES]; ATTRIBUTES];
         // SAFETY: AVX-512F (the caller's contract); with one block, each
         // table is 64 aligned f32 read as four aligned registers; with
         // more, the gather reads entry `index < triangles ≤ 64 × blocks`
@@ -166,7 +186,7 @@ impl Tables {
             let vindex = _mm512_loadu_si512(index.as_ptr().cast());
             if self.blocks == 1 {
                 let upper = _mm512_test_epi32_mask(vindex, _mm512_set1_epi32(32));
-                for (&a, out) in which.iter().zip(&mut out) {
+                for &a in which {
                     let t = self.data.as_ptr().add(a).cast::<f32>();
                     let low = _mm512_permutex2var_ps(
                         _mm512_load_ps(t),
@@ -178,12 +198,12 @@ impl Tables {
                         vindex,
                         _mm512_load_ps(t.add(48)),
                     );
-                    _mm512_storeu_ps(out.as_mut_ptr(), _mm512_mask_blend_ps(upper, low, high));
+                    _mm512_storeu_ps(out[a].as_mut_ptr(), _mm512_mask_blend_ps(upper, low, high));
                 }
             } else {
-                for (&a, out) in which.iter().zip(&mut out) {
+                for &a in which {
                     let t = self.data.as_ptr().add(a * self.blocks).cast::<f32>();
-                    _mm512_storeu_ps(out.as_mut_ptr(), _mm512_i32gather_ps::<4>(vindex, t));
+                    _mm512_storeu_ps(out[a].as_mut_ptr(), _mm512_i32gather_ps::<4>(vindex, t));
                 }
             }
         }
@@ -192,8 +212,8 @@ impl Tables {
 }
 
 /// Where rays meet the scene: the scan of the smallest objects and a BVH
-/// of the rest, each holding scene triangle indices for its own, with the
-/// BVH's bounds padded (a slab test of sixteen lanes keeps the rays that
+/// of the rest, each with the scene indices of its triangles (none for a
+/// scan of every triangle, in scene order), with the BVH's bounds padded (a slab test of sixteen lanes keeps the rays that
 /// miss them out of the BVH).
 #[derive(Debug)]
 struct Tracer {
@@ -264,7 +284,9 @@ impl Tracer {
         } else {
             let n: Vec<Vec3> = scanned.iter().map(|&t| normals[t as usize]).collect();
             let c: Vec<bool> = scanned.iter().map(|&t| culls[t as usize]).collect();
-            Some((TriangleScan::new(&pick(&scanned), &n, &c)?, scanned))
+            let scan = TriangleScan::new(&pick(&scanned), &n, &c)?;
+            let ids = if rest.is_empty() { Vec::new() } else { scanned };
+            Some((scan, ids))
         };
         let bvh = if rest.is_empty() {
             None
@@ -315,7 +337,12 @@ impl Tracer {
                     if let Some((k, h)) = scan.closest_avx512(&ray, lane(d, i), tmax[i], camera[i])
                     {
                         tmax[i] = h.t;
-                        tri[i] = at(ids, k as usize);
+                        // (No map where the scan holds every triangle.)
+                        tri[i] = if ids.is_empty() {
+                            k
+                        } else {
+                            at(ids, k as usize)
+                        };
                         [bary[0][i], bary[1][i]] = [h.b1, h.b2];
                         found[i] = true;
                     }
@@ -382,6 +409,8 @@ pub(crate) struct WavefrontScene {
     running_sums: Vec<f64>,
     total_weight: f64,
     tracer: Tracer,
+    /// Every surface is Lambertian and shaded flat.
+    flat_lambert: bool,
     max_depth: u32,
 }
 
@@ -425,6 +454,7 @@ impl WavefrontScene {
             return None;
         }
         let mut tables = Tables::new(n);
+        let mut flat_lambert = true;
         let mut normal = Vec::with_capacity(n);
         let mut culls = Vec::with_capacity(n);
         for t in 0..n as u32 {
@@ -451,7 +481,9 @@ impl WavefrontScene {
             }
             let ng = geometry.front_normal_scaled(t).normalize_or_zero();
             let k = t as usize;
-            let shading = geometry.corner_normals(scene, t).unwrap_or([Vec3::ZERO; 3]);
+            let shading = geometry.corner_normals(scene, t);
+            flat_lambert &= shading.is_none() && eta == 0.0;
+            let shading = shading.unwrap_or([Vec3::ZERO; 3]);
             for a in 0..3 {
                 for c in 0..3 {
                     tables.set(CORNERS + 3 * c + a, k, geometry.triangles[k][c][a]);
@@ -479,6 +511,7 @@ impl WavefrontScene {
         Some(WavefrontScene {
             tracer: Tracer::new(geometry, scene, &normal, &culls)?,
             tables,
+            flat_lambert,
             lights,
             running_sums: running_sums.to_vec(),
             total_weight,
@@ -523,7 +556,9 @@ struct Paths {
 /// Sample indices `s0..s1` of every pixel of `pixels` (at most
 /// [`LANES`]), each with its sampler, onto `tile`; `hits` counts per
 /// pixel of the tile (row length `tile_w`, origin `tile_origin`) the
-/// samples whose camera ray met a surface.
+/// samples whose camera ray met a surface. With `GENERAL` for any scene
+/// in scope, without for flat Lambert surfaces only (see [`segment`]):
+/// two functions, so that each keeps its loops in the instruction caches.
 ///
 /// # Safety
 /// The CPU must support the features it is compiled for (checked by
@@ -531,7 +566,7 @@ struct Paths {
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
 #[allow(clippy::too_many_arguments)]
-unsafe fn trace_group(
+unsafe fn trace_group<const GENERAL: bool>(
     s: &WavefrontScene,
     film: &FilmRays,
     pixels: &[(u32, u32)],
@@ -596,15 +631,17 @@ unsafe fn trace_group(
         if !any_live {
             return;
         }
-        segment(s, &mut p, samplers);
+        segment::<GENERAL>(s, &mut p, samplers);
     }
 }
 
 /// One segment of every live path: its closest hit, the emission found
 /// there, a light sample with its shadow ray, and the BSDF sample that
-/// makes the next ray (or the path's end).
+/// makes the next ray (or the path's end). Without `GENERAL` the scene's
+/// surfaces are all flat and Lambertian (shading normal = face normal, no
+/// dielectric), and the work for the others is left out.
 #[inline(always)]
-fn segment(s: &WavefrontScene, p: &mut Paths, samplers: &mut [Sampler]) {
+fn segment<const GENERAL: bool>(s: &WavefrontScene, p: &mut Paths, samplers: &mut [Sampler]) {
     // Closest hits.
     let mut tri = [0u32; LANES];
     let mut bary = [[0.0f32; LANES]; 2];
@@ -629,7 +666,13 @@ fn segment(s: &WavefrontScene, p: &mut Paths, samplers: &mut [Sampler]) {
         tri[i] = if p.live[i] { tri[i] } else { 0 };
     }
     // SAFETY: AVX-512F (`trace_group`'s contract); triangle indices.
-    let g = unsafe { s.tables.read(&HIT_READS, &tri) };
+    let g = unsafe {
+        if GENERAL {
+            s.tables.read(&HIT_READS, &tri)
+        } else {
+            s.tables.read(&FLAT_LAMBERT_READS, &tri)
+        }
+    };
     let mut point = [[0.0f32; LANES]; 3];
     let mut ng = [[0.0f32; LANES]; 3];
     let mut ns = [[0.0f32; LANES]; 3];
@@ -644,6 +687,12 @@ fn segment(s: &WavefrontScene, p: &mut Paths, samplers: &mut [Sampler]) {
             ng[a][i] = g[NORMAL + a][i];
             let n = |v: usize| g[SHADING + 3 * v + a][i];
             raw[a] = n(0) * b0 + n(1) * b1 + n(2) * b2;
+        }
+        if !GENERAL {
+            for a in 0..3 {
+                ns[a][i] = ng[a][i];
+            }
+            continue;
         }
         // The shading normal as `SceneGeometry::surface_point`'s: the
         // vertex normals interpolated and normalised (the face's where
@@ -661,7 +710,11 @@ fn segment(s: &WavefrontScene, p: &mut Paths, samplers: &mut [Sampler]) {
     }
     let albedo: [F; 3] = [g[ALBEDO], g[ALBEDO + 1], g[ALBEDO + 2]];
     let mut eta = g[ETA];
-    let dielectric: B = eta.map(|e| e != 0.0);
+    let dielectric: B = if GENERAL {
+        eta.map(|e| e != 0.0)
+    } else {
+        [false; LANES]
+    };
     // Emission reached by this segment, weighted against next-event
     // estimation; then the surface seen from the ray's side, as
     // `TraceContext::shading` sees it, in its shading frame.
@@ -710,22 +763,28 @@ fn segment(s: &WavefrontScene, p: &mut Paths, samplers: &mut [Sampler]) {
         let fb = n[0] * n[1] * fa;
         let fs = [1.0 + sign * n[0] * n[0] * fa, sign * fb, -sign * n[0]];
         let ft = [fb, sign + n[1] * n[1] * fa, -n[1]];
-        let wo = [-p.dir[0][i], -p.dir[1][i], -p.dir[2][i]];
-        let mut w = [
-            wo[0] * fs[0] + wo[1] * fs[1] + wo[2] * fs[2],
-            wo[0] * ft[0] + wo[1] * ft[1] + wo[2] * ft[2],
-            wo[0] * n[0] + wo[1] * n[1] + wo[2] * n[2],
-        ];
-        // Below the shading hemisphere at a grazing angle: onto it.
-        if w[2] <= 0.0 {
-            w[2] = 1e-4;
-            let r = 1.0 / (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
-            w = w.map(|c| c * r);
-        }
         for a in 0..3 {
             frame_s[a][i] = fs[a];
             frame_t[a][i] = ft[a];
-            wo_local[a][i] = w[a];
+        }
+        // `wo` in the frame, for the dielectric (a Lambert BSDF needs only
+        // that it is above the surface, which it is once nudged).
+        if GENERAL {
+            let wo = [-p.dir[0][i], -p.dir[1][i], -p.dir[2][i]];
+            let mut w = [
+                wo[0] * fs[0] + wo[1] * fs[1] + wo[2] * fs[2],
+                wo[0] * ft[0] + wo[1] * ft[1] + wo[2] * ft[2],
+                wo[0] * n[0] + wo[1] * n[1] + wo[2] * n[2],
+            ];
+            // Below the shading hemisphere at a grazing angle: onto it.
+            if w[2] <= 0.0 {
+                w[2] = 1e-4;
+                let r = 1.0 / (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
+                w = w.map(|c| c * r);
+            }
+            for a in 0..3 {
+                wo_local[a][i] = w[a];
+            }
         }
         // Black Lambert surfaces reflect nothing (a path ends there as
         // `path::li`'s would add nothing more).
@@ -768,7 +827,6 @@ fn segment(s: &WavefrontScene, p: &mut Paths, samplers: &mut [Sampler]) {
     }
     // SAFETY: AVX-512F (`trace_group`'s contract); triangle indices.
     let l = unsafe { s.tables.read(&LIGHT_READS, &light) };
-    let (lc, ln, le) = (|v: usize, a: usize| 3 * v + a, 9, 12);
     let mut shadow_origin = [[0.0f32; LANES]; 3];
     let mut wi = [[0.0f32; LANES]; 3];
     let mut shadow_tmax = [0.0f32; LANES];
@@ -779,14 +837,15 @@ fn segment(s: &WavefrontScene, p: &mut Paths, samplers: &mut [Sampler]) {
         let Vec2 { x: b0, y: b1 } = square_to_triangle([u_light[0][i], u_light[1][i]]);
         let mut d = [0.0f32; 3];
         for a in 0..3 {
-            let q = l[lc(0, a)][i] * (1.0 - b0 - b1) + l[lc(1, a)][i] * b0 + l[lc(2, a)][i] * b1;
+            let c = |v: usize| l[CORNERS + 3 * v + a][i];
+            let q = c(0) * (1.0 - b0 - b1) + c(1) * b0 + c(2) * b1;
             d[a] = q - point[a][i];
         }
         let dist2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
         let dist = dist2.sqrt();
         let w = d.map(|c| c / dist);
-        let cos_light = -(w[0] * l[ln][i] + w[1] * l[ln + 1][i] + w[2] * l[ln + 2][i]);
-        let lit_side = (cos_light > 0.0) | (l[16][i] != 0.0);
+        let cos_light = -(w[0] * l[NORMAL][i] + w[1] * l[NORMAL + 1][i] + w[2] * l[NORMAL + 2][i]);
+        let lit_side = (cos_light > 0.0) | (l[TWO_SIDED][i] != 0.0);
         let cos_light = cos_light.abs();
         // `TraceContext::consistent_side` and a Lambert BSDF's support.
         let wl = [
@@ -796,7 +855,7 @@ fn segment(s: &WavefrontScene, p: &mut Paths, samplers: &mut [Sampler]) {
         ];
         let gn = w[0] * ng[0][i] + w[1] * ng[1][i] + w[2] * ng[2][i];
         let consistent = (gn != 0.0) & (wl[2] != 0.0) & ((gn > 0.0) == (wl[2] > 0.0));
-        let reflects = (wo_local[2][i] > 0.0) & (wl[2] > 0.0);
+        let reflects = wl[2] > 0.0;
         let ok = p.live[i]
             & !dielectric[i]
             & (dist2 > 0.0)
@@ -806,7 +865,7 @@ fn segment(s: &WavefrontScene, p: &mut Paths, samplers: &mut [Sampler]) {
             & reflects;
         // Area density → solid angle, with the selection: pdf = P(light)
         // d² / (A |cos θ_light|).
-        let pdf = l[15][i] * dist2 / cos_light;
+        let pdf = l[PMF_PER_AREA][i] * dist2 / cos_light;
         let cos = wl[2].abs();
         let weight = power_heuristic(pdf, wl[2].max(0.0) * FRAC_1_PI);
         // f cos / pdf with f = albedo / π.
@@ -816,7 +875,7 @@ fn segment(s: &WavefrontScene, p: &mut Paths, samplers: &mut [Sampler]) {
             0.0
         };
         for a in 0..3 {
-            contribution[a][i] = p.beta[a][i] * albedo[a][i] * l[le + a][i] * scale;
+            contribution[a][i] = p.beta[a][i] * albedo[a][i] * l[EMISSION + a][i] * scale;
             // `wi` leaves on the (turned) geometric normal's side.
             shadow_origin[a][i] = offset_coordinate(point[a][i], ng[a][i]);
             wi[a][i] = w[a];
@@ -908,8 +967,9 @@ fn segment(s: &WavefrontScene, p: &mut Paths, samplers: &mut [Sampler]) {
             1.0
         };
         alive &= u_rr[i] < q;
-        // `TraceContext::spawn`: off the surface on `w`'s side.
-        let side = if gn >= 0.0 { 1.0 } else { -1.0 };
+        // `TraceContext::spawn`: off the surface on `w`'s side (a live
+        // lane's Lambert sample is on the normal's).
+        let side = if GENERAL && gn < 0.0 { -1.0 } else { 1.0 };
         for a in 0..3 {
             p.beta[a][i] /= q;
             p.origin[a][i] = offset_coordinate(point[a][i], side * ng[a][i]);
@@ -939,16 +999,24 @@ pub(crate) fn render_tile(
     let pixels: Vec<(u32, u32)> = (y0..y0 + h)
         .flat_map(|y| (x0..x0 + w).map(move |x| (x, y)))
         .collect();
+    let mut samplers = Vec::with_capacity(LANES);
     for group in pixels.chunks(LANES) {
         // One sampler per pixel, as `render_tile`'s scalar loop.
-        let mut samplers: Vec<Sampler> = group
-            .iter()
-            .map(|&(x, y)| Sampler::for_pixel_avx512(x, y, seed))
-            .collect();
+        samplers.clear();
+        samplers.extend(
+            group
+                .iter()
+                .map(|&(x, y)| Sampler::for_pixel_avx512(x, y, seed)),
+        );
+        let trace = if s.flat_lambert {
+            trace_group::<false>
+        } else {
+            trace_group::<true>
+        };
         #[cfg(target_arch = "x86_64")]
         // SAFETY: `WavefrontScene::new` checked the CPU's features.
         unsafe {
-            trace_group(
+            trace(
                 s,
                 film,
                 group,
