@@ -150,6 +150,77 @@ fn wavefront_smooth_lambert_image_is_the_scalar_image() {
     assert_same_image(&scene, &settings);
 }
 
+/// A scene whose BVH part is larger than the wavefront takes (a bumpy
+/// ground of 72,200 triangles under a square light; beyond 65,536 the
+/// tree walks dominate, and one path at a time does as well) takes the
+/// scalar integrator.
+#[test]
+fn large_scenes_take_the_scalar_integrator() {
+    let dir = tempfile::tempdir().unwrap();
+    let n = 190;
+    let mut obj = String::new();
+    for j in 0..=n {
+        for i in 0..=n {
+            let (x, z) = (
+                i as f32 / n as f32 * 4.0 - 2.0,
+                j as f32 / n as f32 * 4.0 - 2.0,
+            );
+            let y = 0.2 * (3.0 * x).sin() * (2.0 * z).cos();
+            obj += &format!("v {x} {y} {z}\n");
+        }
+    }
+    for j in 0..n {
+        for i in 0..n {
+            let v = |a: usize, b: usize| (b * (n + 1) + a + 1).to_string();
+            let (a, b, c, d) = (v(i, j), v(i + 1, j), v(i + 1, j + 1), v(i, j + 1));
+            obj += &format!("f {a} {d} {c}\nf {a} {c} {b}\n");
+        }
+    }
+    std::fs::write(dir.path().join("ground.obj"), obj).unwrap();
+    std::fs::write(
+        dir.path().join("light.obj"),
+        "v -0.5 2 -0.5\nv 0.5 2 -0.5\nv 0.5 2 0.5\nv -0.5 2 0.5\nf 1 2 3\nf 1 3 4\n",
+    )
+    .unwrap();
+    let toml = r#"
+background = [0, 0, 0]
+[camera]
+position = [0, 3, 3]
+look_at = [0, 0, 0]
+up = [0, 1, 0]
+fov_y_deg = 50
+[render]
+resolution = [48, 48]
+integrator = "path"
+max_depth = 6
+spp = 16
+[[materials]]
+name = "ground"
+type = "lambert"
+albedo = [0.7, 0.6, 0.5]
+[[materials]]
+name = "light"
+type = "lambert"
+albedo = 0
+emission = [8, 8, 8]
+[[objects]]
+name = "ground"
+mesh = "ground.obj"
+material = "ground"
+[[objects]]
+name = "light"
+mesh = "light.obj"
+material = "light"
+"#;
+    let path = dir.path().join("scene.toml");
+    std::fs::write(&path, toml).unwrap();
+    let scene = load_scene(&path, &LoadOptions::default()).unwrap();
+    let settings = scene.settings.clone();
+    let out = render_with(&scene, &settings, false, 2);
+    assert!(!out.wavefront);
+    assert!(out.image.mean().max_element() > 0.01, "the ground is lit");
+}
+
 /// Scenes outside the wavefront's scope (a mirror) and the other
 /// integrators take the scalar one.
 #[test]

@@ -27,8 +27,9 @@
 //! Rays meet the scene in two parts ([`Tracer`]): the smallest objects, up
 //! to [`scan::MAX_TRIANGLES`] triangles in all, are tested triangle by
 //! triangle ([`TriangleScan`], sixteen at once: a room's walls, which
-//! most rays hit), and the rest through a BVH of their own (a glass
-//! sphere's thousands of triangles, whose box most rays miss).
+//! most rays hit), and the rest, up to [`MAX_BVH_TRIANGLES`], through a
+//! BVH of their own (a glass sphere's thousands of triangles, whose box
+//! most rays miss).
 //!
 //! One of the crate's modules with `unsafe` code: the AVX-512 entry point,
 //! the attribute reads (register permutes, gathers) and table reads
@@ -68,16 +69,26 @@ type B = [bool; LANES];
 #[repr(C, align(64))]
 struct Block([f32; 64]);
 
-/// The attribute components of every triangle, one table each ([`Block`]s
-/// of 64 triangles): scenes of at most 64 triangles are read by sixteen
-/// lanes with two-register permutes, larger ones with gathers.
+/// The attribute components of every triangle. Up to 64 triangles, one
+/// [`Block`] per component, read by sixteen lanes with two-register
+/// permutes; beyond, one row of [`ROW`] components per triangle (two
+/// cache lines), read with gathers.
 #[derive(Debug)]
 struct Tables {
-    /// Blocks per table.
-    blocks: usize,
-    /// Table `a`'s block `k` at `a × blocks + k`.
+    /// Rows instead of one block per component.
+    rows: bool,
+    /// Component `a` of triangle `t` at `a × 64 + t` (blocks) or `t × ROW
+    /// + a` (rows).
     data: Vec<Block>,
 }
+
+/// Components per row: [`ATTRIBUTES`] rounded up to half a block.
+const ROW: usize = 32;
+const _: () = assert!(ATTRIBUTES <= ROW);
+
+/// The most triangles the tables hold: the gathers' indices are 32-bit
+/// signed, t × [`ROW`] + a.
+const MAX_TRIANGLES: usize = 1 << 26;
 
 /// The tables' components: corner c's axis a at `CORNERS + 3c + a`; the
 /// unit front normal; the vertex normals at the corners (`SHADING + 3c +
@@ -154,15 +165,25 @@ const _: () = assert!(
 
 impl Tables {
     fn new(triangles: usize) -> Self {
-        let blocks = triangles.div_ceil(64).max(1);
+        let rows = triangles > 64;
+        let blocks = if rows {
+            (triangles * ROW).div_ceil(64)
+        } else {
+            ATTRIBUTES
+        };
         Tables {
-            blocks,
-            data: vec![Block([0.0; 64]); ATTRIBUTES * blocks],
+            rows,
+            data: vec![Block([0.0; 64]); blocks],
         }
     }
 
     fn set(&mut self, attribute: usize, triangle: usize, value: f32) {
-        self.data[attribute * self.blocks + triangle / 64].0[triangle % 64] = value;
+        let k = if self.rows {
+            triangle * ROW + attribute
+        } else {
+            attribute * 64 + triangle
+        };
+        self.data[k / 64].0[k % 64] = value;
     }
 
     /// The components `which` of the triangles `index` (one a lane, each
@@ -178,13 +199,13 @@ impl Tables {
     ) -> [F; ATTRIBUTES] {
         use std::arch::x86_64::*;
         let mut out = [[0.0f32; LANES]; ATTRIBUTES];
-        // SAFETY: AVX-512F (the caller's contract); with one block, each
-        // table is 64 aligned f32 read as four aligned registers; with
-        // more, the gather reads entry `index < triangles ≤ 64 × blocks`
-        // of table `a`; 16 values written.
+        // SAFETY: AVX-512F (the caller's contract); in blocks, each
+        // component is 64 aligned f32 read as four aligned registers; in
+        // rows, the gather reads entry `index × ROW + a` with `index <
+        // triangles` and `a < ROW`, inside `data`; 16 values written.
         unsafe {
             let vindex = _mm512_loadu_si512(index.as_ptr().cast());
-            if self.blocks == 1 {
+            if !self.rows {
                 let upper = _mm512_test_epi32_mask(vindex, _mm512_set1_epi32(32));
                 for &a in which {
                     let t = self.data.as_ptr().add(a).cast::<f32>();
@@ -201,9 +222,11 @@ impl Tables {
                     _mm512_storeu_ps(out[a].as_mut_ptr(), _mm512_mask_blend_ps(upper, low, high));
                 }
             } else {
+                let rows = _mm512_slli_epi32::<5>(vindex);
+                const _: () = assert!(ROW == 1 << 5);
                 for &a in which {
-                    let t = self.data.as_ptr().add(a * self.blocks).cast::<f32>();
-                    _mm512_storeu_ps(out[a].as_mut_ptr(), _mm512_i32gather_ps::<4>(vindex, t));
+                    let t = self.data.as_ptr().cast::<f32>().add(a);
+                    _mm512_storeu_ps(out[a].as_mut_ptr(), _mm512_i32gather_ps::<4>(rows, t));
                 }
             }
         }
@@ -211,15 +234,24 @@ impl Tables {
     }
 }
 
-/// Where rays meet the scene: the scan of the smallest objects and a BVH
-/// of the rest, each with the scene indices of its triangles (none for a
-/// scan of every triangle, in scene order), with the BVH's bounds padded (a slab test of sixteen lanes keeps the rays that
+/// Where rays meet the scene: the scan of the smallest objects, with the
+/// scene indices of its triangles (none for a scan of every triangle, in
+/// scene order), and a BVH of the rest, with their scene indices and
+/// their bounds padded (a slab test of sixteen lanes keeps the rays that
 /// miss them out of the BVH).
 #[derive(Debug)]
 struct Tracer {
     scan: Option<(TriangleScan, Vec<u32>)>,
     bvh: Option<(Accel, Vec<u32>, [[f32; 3]; 2])>,
 }
+
+/// The most triangles the BVH part holds. Beyond, its tree outgrows the
+/// caches and the traversal dominates, one ray at a time as in the scalar
+/// integrator, which then does as well: a Lambert scene of 1M triangles
+/// (the `bench` mesh under an emissive square) took 11.12 s here against
+/// 10.21 s scalar (512 spp, two threads), where the glass-sphere box's
+/// 5,120 run 1.3-1.4x faster than scalar.
+const MAX_BVH_TRIANGLES: usize = 1 << 16;
 
 /// The lanes whose ray `o + t d` may meet the box `[lo, hi]` in (0,
 /// `tmax`), by the slab test; conservative, as the box is padded far
@@ -248,7 +280,8 @@ impl Tracer {
     /// The scene's triangles split by object: objects in increasing order
     /// of size to the scan while they fit, the rest to a BVH. `None` where
     /// a triangle the BVH would hold culls its back faces for camera rays
-    /// (only the scan does that).
+    /// (only the scan does that), or the BVH would hold more than
+    /// [`MAX_BVH_TRIANGLES`].
     fn new(
         geometry: &SceneGeometry,
         scene: &Scene,
@@ -271,7 +304,7 @@ impl Tracer {
         // integrator's order would.
         scanned.sort_unstable();
         rest.sort_unstable();
-        if rest.iter().any(|&t| culls[t as usize]) {
+        if rest.len() > MAX_BVH_TRIANGLES || rest.iter().any(|&t| culls[t as usize]) {
             return None;
         }
         let pick = |ids: &[u32]| -> Vec<[Vec3; 3]> {
@@ -291,17 +324,22 @@ impl Tracer {
         let bvh = if rest.is_empty() {
             None
         } else {
-            let triangles = pick(&rest);
             let (mut lo, mut hi) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
-            for p in triangles.iter().flatten() {
-                (lo, hi) = (lo.min(*p), hi.max(*p));
+            for &t in &rest {
+                for p in geometry.triangles[t as usize] {
+                    (lo, hi) = (lo.min(p), hi.max(p));
+                }
             }
             // Padded by a thousandth of the extent and of the coordinates,
             // far beyond the slab test's rounding.
             let pad = 1e-3 * ((hi - lo).max_element() + lo.abs().max(hi.abs()).max_element());
             let (lo, hi) = (lo - pad, hi + pad);
             let bounds = [lo.to_array(), hi.to_array()];
-            Some((Accel::build(&triangles, BuildQuality::Medium), rest, bounds))
+            Some((
+                Accel::build(&pick(&rest), BuildQuality::Medium),
+                rest,
+                bounds,
+            ))
         };
         Some(Tracer { scan, bvh })
     }
@@ -349,13 +387,13 @@ impl Tracer {
                 }
             }
         }
-        if let Some((bvh, ids, bounds)) = &self.bvh {
+        if let Some((accel, ids, bounds)) = &self.bvh {
             let maybe = slabs(o, d, &tmax, bounds);
             for i in 0..LANES {
                 if !(live[i] & maybe[i]) {
                     continue;
                 }
-                if let Some(h) = bvh.intersect(&Ray::segment(lane(o, i), lane(d, i), tmax[i])) {
+                if let Some(h) = accel.intersect(&Ray::segment(lane(o, i), lane(d, i), tmax[i])) {
                     // SAFETY: the BVH's indices are below `ids.len()`.
                     tri[i] = unsafe { at(ids, h.triangle as usize) };
                     [bary[0][i], bary[1][i]] = [h.b1, h.b2];
@@ -386,11 +424,11 @@ impl Tracer {
                 shadow[i] = !unsafe { scan.occluded_avx512(&ray, tmax[i]) };
             }
         }
-        if let Some((bvh, _, bounds)) = &self.bvh {
+        if let Some((accel, _, bounds)) = &self.bvh {
             let maybe = slabs(o, d, tmax, bounds);
             for i in 0..LANES {
                 if shadow[i] & maybe[i] {
-                    shadow[i] = !bvh.occluded(&Ray::segment(lane(o, i), lane(d, i), tmax[i]));
+                    shadow[i] = !accel.occluded(&Ray::segment(lane(o, i), lane(d, i), tmax[i]));
                 }
             }
         }
@@ -445,7 +483,7 @@ impl WavefrontScene {
         if !cpu
             || settings.integrator != IntegratorKind::Path
             || n == 0
-            || n > u32::MAX as usize / 2
+            || n > MAX_TRIANGLES
             || !scene.lights.is_empty()
             || !scene.area_lights.is_empty()
             || scene.environment_map.is_some()
