@@ -86,9 +86,8 @@ struct Tables {
 const ROW: usize = 32;
 const _: () = assert!(ATTRIBUTES <= ROW);
 
-/// The most triangles the tables hold: the gathers' indices are 32-bit
-/// signed, t × [`ROW`] + a.
-const MAX_TRIANGLES: usize = 1 << 26;
+// The gathers' indices t × ROW + a are 32-bit signed.
+const _: () = assert!((scan::MAX_TRIANGLES + MAX_BVH_TRIANGLES) * ROW < i32::MAX as usize);
 
 /// The tables' components: corner c's axis a at `CORNERS + 3c + a`; the
 /// unit front normal; the vertex normals at the corners (`SHADING + 3c +
@@ -300,8 +299,7 @@ impl Tracer {
                 rest.extend(r);
             }
         }
-        // Of equal distances the scan keeps the lowest index, as the scalar
-        // integrator's order would.
+        // In scene order: of equal distances the scan keeps the lowest index.
         scanned.sort_unstable();
         rest.sort_unstable();
         if rest.len() > MAX_BVH_TRIANGLES || rest.iter().any(|&t| culls[t as usize]) {
@@ -483,7 +481,9 @@ impl WavefrontScene {
         if !cpu
             || settings.integrator != IntegratorKind::Path
             || n == 0
-            || n > MAX_TRIANGLES
+            // (Checked again by object in `Tracer::new`; here before the
+            // tables are filled.)
+            || n > scan::MAX_TRIANGLES + MAX_BVH_TRIANGLES
             || !scene.lights.is_empty()
             || !scene.area_lights.is_empty()
             || scene.environment_map.is_some()
@@ -1046,14 +1046,14 @@ pub(crate) fn render_tile(
                 .iter()
                 .map(|&(x, y)| Sampler::for_pixel_avx512(x, y, seed)),
         );
-        let trace = if s.flat_lambert {
-            trace_group::<false>
-        } else {
-            trace_group::<true>
-        };
         #[cfg(target_arch = "x86_64")]
         // SAFETY: `WavefrontScene::new` checked the CPU's features.
         unsafe {
+            let trace = if s.flat_lambert {
+                trace_group::<false>
+            } else {
+                trace_group::<true>
+            };
             trace(
                 s,
                 film,
