@@ -596,7 +596,8 @@ struct Paths {
 /// pixel of the tile (row length `tile_w`, origin `tile_origin`) the
 /// samples whose camera ray met a surface. With `GENERAL` for any scene
 /// in scope, without for flat Lambert surfaces only (see [`segment`]):
-/// two functions, so that each keeps its loops in the instruction caches.
+/// two functions, one per kind of scene, so that neither carries the
+/// other's code (a render runs one of them).
 ///
 /// # Safety
 /// The CPU must support the features it is compiled for (checked by
