@@ -237,11 +237,17 @@ impl Tables {
 /// scene indices of its triangles (none for a scan of every triangle, in
 /// scene order), and a BVH of the rest, with their scene indices and
 /// their bounds padded (a slab test of sixteen lanes keeps the rays that
-/// miss them out of the BVH).
+/// miss them out of the BVH, and one of a ball around them those that
+/// pass the box's corners).
 #[derive(Debug)]
 struct Tracer {
     scan: Option<(TriangleScan, Vec<u32>)>,
     bvh: Option<(Accel, Vec<u32>, [[f32; 3]; 2])>,
+    /// A padded ball around the BVH part, `[cx, cy, cz, r]`: a second
+    /// test of sixteen lanes after the box's, which keeps out the rays
+    /// that pass a round object's box but miss the object (about half of
+    /// a sphere's box's).
+    ball: [f32; 4],
 }
 
 /// The most triangles the BVH part holds. Beyond, its tree outgrows the
@@ -271,6 +277,51 @@ fn slabs(o: &[F; 3], d: &[F; 3], tmax: &F, [lo, hi]: &[[f32; 3]; 2]) -> B {
             exit = exit.min(t0.max(t1));
         }
         maybe[i] = enter <= exit;
+    }
+    maybe
+}
+
+/// The padding of the BVH part's box and ball: a thousandth of the
+/// extent and of the coordinates, far beyond the slab and ball tests'
+/// rounding.
+fn padding([lo, hi]: [Vec3; 2]) -> f32 {
+    1e-3 * ((hi - lo).max_element() + lo.abs().max(hi.abs()).max_element())
+}
+
+/// A ball around the points `p` padded by `pad`: the centre of `[lo,
+/// hi]`, the radius the farthest point's distance (in f64) plus `pad`, as
+/// `[cx, cy, cz, r]`.
+fn bounding_ball(p: impl Iterator<Item = Vec3>, [lo, hi]: [Vec3; 2], pad: f32) -> [f32; 4] {
+    let centre = ((lo + hi) * 0.5).as_dvec3();
+    let r2 = p.fold(0.0f64, |r2, p| {
+        r2.max((p.as_dvec3() - centre).length_squared())
+    });
+    let c = centre.as_vec3();
+    [c.x, c.y, c.z, r2.sqrt() as f32 + pad]
+}
+
+/// The lanes whose ray `o + t d` (t > 0) may meet the ball `[cx, cy, cz,
+/// r]`: it starts inside, or its line passes within r of the centre ahead
+/// of it. Conservative: the line's distance comes from a cross product
+/// (no cancellation), its rounding (a few ulps of |c - o|) is covered by
+/// adding 1e-6 |c - o| to r, and the ball is padded beyond the rest.
+#[inline(always)]
+fn ball(o: &[F; 3], d: &[F; 3], [cx, cy, cz, r]: &[f32; 4]) -> B {
+    let mut maybe = [false; LANES];
+    for i in 0..LANES {
+        let oc = [cx - o[0][i], cy - o[1][i], cz - o[2][i]];
+        let dv = [d[0][i], d[1][i], d[2][i]];
+        let cross = [
+            oc[1] * dv[2] - oc[2] * dv[1],
+            oc[2] * dv[0] - oc[0] * dv[2],
+            oc[0] * dv[1] - oc[1] * dv[0],
+        ];
+        let dd = dv[0] * dv[0] + dv[1] * dv[1] + dv[2] * dv[2];
+        let cc = cross[0] * cross[0] + cross[1] * cross[1] + cross[2] * cross[2];
+        let oo = oc[0] * oc[0] + oc[1] * oc[1] + oc[2] * oc[2];
+        let ahead = oc[0] * dv[0] + oc[1] * dv[1] + oc[2] * dv[2] > 0.0;
+        let reach = *r + 1e-6 * oo.sqrt();
+        maybe[i] = (oo <= r * r) | (ahead & (cc <= reach * reach * dd));
     }
     maybe
 }
@@ -319,6 +370,7 @@ impl Tracer {
             let ids = if rest.is_empty() { Vec::new() } else { scanned };
             Some((scan, ids))
         };
+        let mut ball = [0.0; 4];
         let bvh = if rest.is_empty() {
             None
         } else {
@@ -328,18 +380,21 @@ impl Tracer {
                     (lo, hi) = (lo.min(p), hi.max(p));
                 }
             }
-            // Padded by a thousandth of the extent and of the coordinates,
-            // far beyond the slab test's rounding.
-            let pad = 1e-3 * ((hi - lo).max_element() + lo.abs().max(hi.abs()).max_element());
+            let pad = padding([lo, hi]);
             let (lo, hi) = (lo - pad, hi + pad);
             let bounds = [lo.to_array(), hi.to_array()];
+            ball = bounding_ball(
+                rest.iter().flat_map(|&t| geometry.triangles[t as usize]),
+                [lo, hi],
+                pad,
+            );
             Some((
                 Accel::build(&pick(&rest), BuildQuality::Medium),
                 rest,
                 bounds,
             ))
         };
-        Some(Tracer { scan, bvh })
+        Some(Tracer { scan, bvh, ball })
     }
 
     /// The closest hits of the `live` lanes' rays `o + t d`: scene
@@ -387,8 +442,9 @@ impl Tracer {
         }
         if let Some((accel, ids, bounds)) = &self.bvh {
             let maybe = slabs(o, d, &tmax, bounds);
+            let near = ball(o, d, &self.ball);
             for i in 0..LANES {
-                if !(live[i] & maybe[i]) {
+                if !(live[i] & maybe[i] & near[i]) {
                     continue;
                 }
                 if let Some(h) = accel.intersect(&Ray::segment(lane(o, i), lane(d, i), tmax[i])) {
@@ -424,8 +480,9 @@ impl Tracer {
         }
         if let Some((accel, _, bounds)) = &self.bvh {
             let maybe = slabs(o, d, tmax, bounds);
+            let near = ball(o, d, &self.ball);
             for i in 0..LANES {
-                if shadow[i] & maybe[i] {
+                if shadow[i] & maybe[i] & near[i] {
                     shadow[i] = !accel.occluded(&Ray::segment(lane(o, i), lane(d, i), tmax[i]));
                 }
             }
@@ -1072,5 +1129,81 @@ pub(crate) fn render_tile(
                 ((x0, y0), w),
             );
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::accel::WatertightRay;
+    use penumbra_shading::stats::TestRng;
+
+    /// Every ray that the watertight test finds meeting one of a cloud of
+    /// triangles passes the ball test, for origins near the cloud and up
+    /// to 1e5 times its size away (where the ball test's rounding exceeds
+    /// the padding and its |c - o| term must cover it), with rays aimed at
+    /// the triangles' corners (on the ball's surface) and points; and rays
+    /// aimed at the box's corners, outside the ball, or away from it are
+    /// kept out.
+    #[test]
+    fn rays_that_meet_the_triangles_pass_the_ball_test() {
+        let mut rng = TestRng::new(5);
+        let unit = |rng: &mut TestRng| {
+            Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 2.0 - 1.0
+        };
+        let centre = Vec3::new(0.3, -0.2, 0.1);
+        // Corners on a unit sphere around `centre`.
+        let corner = |v: Vec3| centre + v.normalize();
+        let triangles: Vec<[Vec3; 3]> = (0..200)
+            .map(|_| {
+                let a = unit(&mut rng);
+                let (b, c) = (unit(&mut rng), unit(&mut rng));
+                [corner(a), corner(a + b * 0.3), corner(a + c * 0.3)]
+            })
+            .collect();
+        let points = || triangles.iter().flatten().copied();
+        let (lo, hi) = points().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(l, h), p| {
+            (l.min(p), h.max(p))
+        });
+        let b = bounding_ball(points(), [lo, hi], padding([lo, hi]));
+        let (mut hits, mut kept_out) = (0, 0);
+        for n in 0..40_000 {
+            let far = [3.0, 1e3, 1e5][n % 3];
+            let k = n / 3 % triangles.len();
+            let o = centre + unit(&mut rng).normalize() * far;
+            let target = match n % 4 {
+                0 => triangles[k][n % 3],
+                1 => {
+                    let [u, v] = [rng.next_f32(), rng.next_f32()];
+                    let [p0, p1, p2] = triangles[k];
+                    if u + v < 1.0 {
+                        p0 + (p1 - p0) * u + (p2 - p0) * v
+                    } else {
+                        p0 + (p1 - p0) * (1.0 - u) + (p2 - p0) * (1.0 - v)
+                    }
+                }
+                2 => Vec3::select(glam::BVec3::new(n % 5 < 2, n % 7 < 3, n % 11 < 5), lo, hi),
+                _ => centre + unit(&mut rng) * 1.2,
+            };
+            let d = (target - o).normalize();
+            let ray = WatertightRay::new(o, d);
+            let meets = triangles
+                .iter()
+                .any(|&[p0, p1, p2]| ray.intersect(p0, p1, p2, f32::INFINITY).is_some());
+            let lanes = |v: Vec3| [[v.x; LANES], [v.y; LANES], [v.z; LANES]];
+            let pass = ball(&lanes(o), &lanes(d), &b)[0];
+            if meets {
+                hits += 1;
+                assert!(pass, "ray {n} from {o} along {d} meets a triangle");
+            }
+            if n % 4 == 2 && far == 3.0 {
+                kept_out += usize::from(!pass);
+            }
+            // Away from the ball: behind the ray.
+            let away = (o - centre).normalize();
+            assert!(!ball(&lanes(o), &lanes(away), &b)[0], "ray {n} away");
+        }
+        assert!(hits > 15_000, "{hits} hits");
+        assert!(kept_out > 2_000, "{kept_out} rays kept out");
     }
 }
