@@ -3,6 +3,14 @@
 //! most [`MAX_TRIANGLES`] triangles (a Cornell box has 32), where a tree
 //! walk costs more in branches and setup than the tests it saves.
 //!
+//! The triangles are grouped by object into chunks of up to sixteen, each
+//! with its padded bounds; a ray tests only the chunks whose bounds it
+//! passes ([`TriangleScan::chunks_passed`], a slab test of sixteen rays
+//! at once). Objects are merged into one chunk where that lowers the sum
+//! of the chunks' surface areas (the surface area heuristic's proxy for
+//! how many rays pass them): a Cornell box's ceiling with its light, but
+//! not two walls, nor a wall and a block.
+//!
 //! Inside a scalar path loop such a scan is no faster than the tree walk,
 //! which the next step waits for (measured on 2026-12-06); it pays where
 //! many independent rays are in flight, as in the wavefront path tracer
@@ -31,23 +39,29 @@ pub const MAX_TRIANGLES: usize = 64;
 
 type Lanes = [f32; LANES];
 
-/// [`LANES`] triangles in structure-of-arrays form: corners
-/// (`[corner][axis][lane]`), unit front normals, whether rays that cull
-/// back faces pass through their back and which lanes hold a triangle (bit
-/// masks); 64-byte aligned, so that each array is one aligned load.
+/// Up to [`LANES`] triangles in structure-of-arrays form: corners
+/// (`[corner][axis][lane]`), unit front normals, the triangles' indices
+/// in the scan's input, whether rays that cull back faces pass through
+/// their back and which lanes hold a triangle (bit masks); 64-byte
+/// aligned, so that each array is one aligned load.
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(64))]
 struct Chunk {
     corners: [[Lanes; 3]; 3],
     normal: [Lanes; 3],
+    index: [u32; LANES],
     culls: u16,
     used: u16,
 }
 
-/// The scene's triangles in chunks.
+/// The most chunks: one bit each in a ray's mask.
+const MAX_CHUNKS: usize = 16;
+
+/// The scene's triangles in chunks, with each chunk's padded bounds.
 #[derive(Clone, Debug)]
 pub struct TriangleScan {
     chunks: Vec<Chunk>,
+    bounds: Vec<[[f32; 3]; 2]>,
 }
 
 /// The watertight test's quantities of a chunk's triangles for one ray,
@@ -62,36 +76,67 @@ struct Edges {
 
 impl TriangleScan {
     /// The scan of `triangles` (world-space corners), with their unit front
-    /// normals and whether each culls back faces; `None` beyond
-    /// [`MAX_TRIANGLES`].
-    pub fn new(triangles: &[[Vec3; 3]], normals: &[Vec3], culls: &[bool]) -> Option<Self> {
+    /// normals, whether each culls back faces and the object each belongs
+    /// to; `None` beyond [`MAX_TRIANGLES`]. Hits name triangles by their
+    /// place in `triangles`.
+    pub fn new(
+        triangles: &[[Vec3; 3]],
+        normals: &[Vec3],
+        culls: &[bool],
+        objects: &[u32],
+    ) -> Option<Self> {
         if triangles.len() > MAX_TRIANGLES {
             return None;
         }
-        let mut chunks = Vec::new();
-        for (k, corners) in triangles.iter().enumerate() {
-            if k % LANES == 0 {
-                chunks.push(Chunk {
-                    corners: [[[0.0; LANES]; 3]; 3],
-                    normal: [[0.0; LANES]; 3],
-                    culls: 0,
-                    used: 0,
-                });
-            }
-            let chunk = chunks.last_mut().expect("pushed above");
-            let lane = k % LANES;
-            for (c, p) in corners.iter().enumerate() {
-                for a in 0..3 {
-                    chunk.corners[c][a][lane] = p[a];
+        let groups = chunk_groups(triangles, objects);
+        let mut chunks = Vec::with_capacity(groups.len());
+        let mut bounds = Vec::with_capacity(groups.len());
+        for group in groups {
+            let mut chunk = Chunk {
+                corners: [[[0.0; LANES]; 3]; 3],
+                normal: [[0.0; LANES]; 3],
+                index: [0; LANES],
+                culls: 0,
+                used: 0,
+            };
+            for (lane, &k) in group.iter().enumerate() {
+                for (c, p) in triangles[k].iter().enumerate() {
+                    for a in 0..3 {
+                        chunk.corners[c][a][lane] = p[a];
+                    }
                 }
+                for a in 0..3 {
+                    chunk.normal[a][lane] = normals[k][a];
+                }
+                chunk.index[lane] = k as u32;
+                chunk.culls |= u16::from(culls[k]) << lane;
+                chunk.used |= 1 << lane;
             }
-            for a in 0..3 {
-                chunk.normal[a][lane] = normals[k][a];
-            }
-            chunk.culls |= u16::from(culls[k]) << lane;
-            chunk.used |= 1 << lane;
+            chunks.push(chunk);
+            let [lo, hi] = padded(group.iter().map(|&k| &triangles[k]));
+            bounds.push([lo.to_array(), hi.to_array()]);
         }
-        Some(TriangleScan { chunks })
+        Some(TriangleScan { chunks, bounds })
+    }
+
+    /// For each lane's ray `o + t d` in (0, `tmax`), the chunks whose
+    /// bounds it may pass (bit `c` for chunk `c`).
+    #[inline(always)]
+    pub fn chunks_passed(&self, o: &[Lanes; 3], d: &[Lanes; 3], tmax: &Lanes) -> [u16; LANES] {
+        let mut masks = [0u16; LANES];
+        for (c, b) in self.bounds.iter().enumerate() {
+            let pass = slabs(o, d, tmax, b);
+            for i in 0..LANES {
+                masks[i] |= u16::from(pass[i]) << c;
+            }
+        }
+        masks
+    }
+
+    /// Chunk `c` (a bit of a mask from [`Self::chunks_passed`]).
+    #[inline(always)]
+    fn chunk(&self, c: usize) -> &Chunk {
+        &self.chunks[c]
     }
 
     /// Triangle `lane` of `chunk`.
@@ -206,10 +251,12 @@ impl TriangleScan {
         }
     }
 
-    /// The closest hit of `ray` (direction `d`) in (0, `tmax`): triangle
-    /// index and hit. With `camera`, the back faces of triangles that cull
-    /// them are passed through (glTF single-sided materials seen by a
-    /// camera ray).
+    /// The closest hit of `ray` (direction `d`) in (0, `tmax`) among the
+    /// triangles of the chunks of `chunks` (bits, as from
+    /// [`Self::chunks_passed`]): triangle index and hit, of equal
+    /// distances the lowest index. With `camera`, the back faces of
+    /// triangles that cull them are passed through (glTF single-sided
+    /// materials seen by a camera ray).
     ///
     /// # Safety
     /// The CPU must support AVX-512F.
@@ -220,6 +267,7 @@ impl TriangleScan {
         d: Vec3,
         tmax: f32,
         camera: bool,
+        chunks: u16,
     ) -> Option<(u32, TriangleHit)> {
         // SAFETY: AVX-512F (the caller's contract); the loads read the
         // chunks' 16-lane arrays, the stores 16-lane locals.
@@ -228,7 +276,7 @@ impl TriangleScan {
             // chunks: no distance is carried from chunk to chunk, so their
             // tests overlap; one reduction at the end.
             let mut near = _mm512_set1_ps(f32::INFINITY);
-            let mut near_chunk = _mm512_setzero_si512();
+            let mut near_index = _mm512_setzero_si512();
             let mut near_v = _mm512_setzero_ps();
             let mut near_w = _mm512_setzero_ps();
             let mut near_det = _mm512_set1_ps(1.0);
@@ -238,7 +286,10 @@ impl TriangleScan {
                 _mm512_set1_ps(d.z),
             );
             let vtmax = _mm512_set1_ps(tmax);
-            for (c, chunk) in self.chunks.iter().enumerate() {
+            let mut todo = chunks;
+            while todo != 0 {
+                let chunk = self.chunk(todo.trailing_zeros() as usize);
+                todo &= todo - 1;
                 let e = Self::edges(chunk, ray, tmax);
                 // 1/det from the 14-bit estimate and one Newton step: within
                 // about an ulp, it only ranks the hits (the chosen one's
@@ -262,8 +313,11 @@ impl TriangleScan {
                 let t = _mm512_mul_ps(e.t_scaled, inv);
                 let closer = _mm512_mask_cmp_ps_mask::<_CMP_LT_OQ>(ok, t, near);
                 near = _mm512_mask_blend_ps(closer, near, t);
-                near_chunk =
-                    _mm512_mask_blend_epi32(closer, near_chunk, _mm512_set1_epi32(c as i32));
+                near_index = _mm512_mask_blend_epi32(
+                    closer,
+                    near_index,
+                    _mm512_load_si512(chunk.index.as_ptr().cast()),
+                );
                 near_v = _mm512_mask_blend_ps(closer, near_v, e.v);
                 near_w = _mm512_mask_blend_ps(closer, near_w, e.w);
                 near_det = _mm512_mask_blend_ps(closer, near_det, e.det);
@@ -272,15 +326,13 @@ impl TriangleScan {
             if t.is_nan() || t >= tmax {
                 return None;
             }
-            // Of equal distances, the lowest triangle index (chunk × 16 +
-            // lane), found without a loop over the lanes.
+            // Of equal distances, the lowest triangle index, found without
+            // a loop over the lanes.
             let lanes = _mm512_cmp_ps_mask::<_CMP_EQ_OQ>(near, _mm512_set1_ps(t));
-            let index = _mm512_add_epi32(
-                _mm512_slli_epi32::<4>(near_chunk),
-                _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15),
-            );
-            let k = _mm512_mask_reduce_min_epu32(lanes, index);
-            let lane = _mm512_set1_epi32((k % LANES as u32) as i32);
+            let k = _mm512_mask_reduce_min_epu32(lanes, near_index);
+            let winner =
+                _mm512_mask_cmpeq_epi32_mask(lanes, near_index, _mm512_set1_epi32(k as i32));
+            let lane = _mm512_set1_epi32(winner.trailing_zeros() as i32);
             // (Written out: intrinsics in closures would not be inlined.)
             let v = _mm512_cvtss_f32(_mm512_permutexvar_ps(lane, near_v));
             let w = _mm512_cvtss_f32(_mm512_permutexvar_ps(lane, near_w));
@@ -297,17 +349,21 @@ impl TriangleScan {
         }
     }
 
-    /// Whether `ray` meets a triangle in (0, `tmax`) (back faces included):
-    /// chunk by chunk, stopping at the first that holds one.
+    /// Whether `ray` meets a triangle of the chunks of `chunks` in (0,
+    /// `tmax`) (back faces included): chunk by chunk, stopping at the
+    /// first that holds one.
     ///
     /// # Safety
     /// The CPU must support AVX-512F.
     #[inline(always)]
-    pub unsafe fn occluded_avx512(&self, ray: &WatertightRay, tmax: f32) -> bool {
+    pub unsafe fn occluded_avx512(&self, ray: &WatertightRay, tmax: f32, chunks: u16) -> bool {
         // SAFETY: AVX-512F (the caller's contract).
         unsafe {
             let vtmax = _mm512_set1_ps(tmax);
-            for chunk in &self.chunks {
+            let mut todo = chunks;
+            while todo != 0 {
+                let chunk = self.chunk(todo.trailing_zeros() as usize);
+                todo &= todo - 1;
                 if chunk.used & accepts(&Self::edges(chunk, ray, tmax), vtmax) != 0 {
                     return true;
                 }
@@ -315,6 +371,114 @@ impl TriangleScan {
             false
         }
     }
+}
+
+/// The padding of a box around scene geometry: a thousandth of its
+/// extent and of its coordinates, far beyond the rounding of the slab
+/// test and of a watertight hit's distance.
+pub fn padding([lo, hi]: [Vec3; 2]) -> f32 {
+    1e-3 * ((hi - lo).max_element() + lo.abs().max(hi.abs()).max_element())
+}
+
+/// The bounds of `points`.
+pub fn bounds(points: impl Iterator<Item = Vec3>) -> [Vec3; 2] {
+    points.fold([Vec3::INFINITY, Vec3::NEG_INFINITY], |[lo, hi], p| {
+        [lo.min(p), hi.max(p)]
+    })
+}
+
+/// The bounds of `triangles` padded by [`padding`].
+fn padded<'a>(triangles: impl Iterator<Item = &'a [Vec3; 3]>) -> [Vec3; 2] {
+    let [lo, hi] = bounds(triangles.flatten().copied());
+    let pad = padding([lo, hi]);
+    [lo - pad, hi + pad]
+}
+
+/// The triangles of each chunk (indices into `triangles`). The large
+/// objects (a box diagonal at least half the whole's: a room's walls,
+/// whose bounds rays from inside pass anyway) share chunks; each small
+/// object has its own, in runs of [`LANES`]. Then the pair of groups that
+/// fit one chunk and whose merged padded bounds save the most surface
+/// area are merged, while that saves any (a light into its room), or
+/// while there are more than [`MAX_CHUNKS`] groups.
+fn chunk_groups(triangles: &[[Vec3; 3]], objects: &[u32]) -> Vec<Vec<usize>> {
+    let mut by_object = std::collections::BTreeMap::<u32, Vec<usize>>::new();
+    for (k, &o) in objects.iter().enumerate() {
+        by_object.entry(o).or_default().push(k);
+    }
+    let diagonal = |[lo, hi]: [Vec3; 2]| (hi - lo).length();
+    let whole = diagonal(bounds(triangles.iter().flatten().copied()));
+    let (mut large, mut groups) = (Vec::new(), Vec::<Vec<usize>>::new());
+    for ks in by_object.values() {
+        let size = diagonal(bounds(ks.iter().flat_map(|&k| triangles[k])));
+        if size >= 0.5 * whole {
+            large.extend(ks);
+        } else {
+            groups.extend(ks.chunks(LANES).map(<[usize]>::to_vec));
+        }
+    }
+    large.sort_unstable();
+    groups.extend(large.chunks(LANES).map(<[usize]>::to_vec));
+    let area = |g: &[usize]| {
+        let [lo, hi] = padded(g.iter().map(|&k| &triangles[k]));
+        let e = (hi - lo).as_dvec3();
+        2.0 * (e.x * e.y + e.y * e.z + e.z * e.x)
+    };
+    loop {
+        let mut best: Option<(f64, usize, usize)> = None;
+        for a in 0..groups.len() {
+            for b in a + 1..groups.len() {
+                if groups[a].len() + groups[b].len() > LANES {
+                    continue;
+                }
+                let merged: Vec<usize> = groups[a].iter().chain(&groups[b]).copied().collect();
+                let saving = area(&groups[a]) + area(&groups[b]) - area(&merged);
+                if best.is_none_or(|(s, _, _)| saving > s) {
+                    best = Some((saving, a, b));
+                }
+            }
+        }
+        match best {
+            Some((saving, a, b)) if saving > 0.0 || groups.len() > MAX_CHUNKS => {
+                let merged = groups.swap_remove(b);
+                groups[a].extend(merged);
+                groups[a].sort_unstable();
+            }
+            // (More than MAX_CHUNKS groups of at most 64 triangles always
+            // hold two that fit one chunk.)
+            _ => break,
+        }
+    }
+    debug_assert!(groups.len() <= MAX_CHUNKS);
+    groups
+}
+
+/// The lanes whose ray `o + t d` may meet the box `[lo, hi]` in (0,
+/// `tmax`), by the slab test; conservative where the box is padded by
+/// [`padding`], far beyond the test's rounding. (A NaN slab distance, 0 ×
+/// ∞, comes only from a ray parallel to a padded face that starts in its
+/// plane, outside every triangle; `min` and `max` pass over it.)
+#[inline(always)]
+pub fn slabs(
+    o: &[Lanes; 3],
+    d: &[Lanes; 3],
+    tmax: &Lanes,
+    [lo, hi]: &[[f32; 3]; 2],
+) -> [bool; LANES] {
+    let mut maybe = [false; LANES];
+    for i in 0..LANES {
+        let mut enter = 0.0f32;
+        let mut exit = tmax[i];
+        for a in 0..3 {
+            let inv = 1.0 / d[a][i];
+            let t0 = (lo[a] - o[a][i]) * inv;
+            let t1 = (hi[a] - o[a][i]) * inv;
+            enter = enter.max(t0.min(t1));
+            exit = exit.min(t0.max(t1));
+        }
+        maybe[i] = enter <= exit;
+    }
+    maybe
 }
 
 /// A corner of sixteen triangles (its coordinates on the permuted axes
@@ -388,19 +552,30 @@ mod tests {
         Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 2.0 * scale - scale
     }
 
-    /// A soup of 40 triangles (three chunks, the last partly used), some
+    /// A soup of 40 triangles (several chunks, some partly used), some
     /// sharing an edge so that rays through it meet the f64 fallback's
-    /// lanes, with their front normals and a culling flag on every third.
-    fn soup(rng: &mut TestRng) -> (Vec<[Vec3; 3]>, Vec<Vec3>, Vec<bool>) {
+    /// lanes, with their front normals, a culling flag on every third and
+    /// their objects: six compact clusters of five, and ten scattered
+    /// over the whole (a large object).
+    fn soup(rng: &mut TestRng) -> (Vec<[Vec3; 3]>, Vec<Vec3>, Vec<bool>, Vec<u32>) {
         let mut tris = Vec::new();
+        let mut centre = Vec3::ZERO;
         for k in 0..40 {
-            let a = point(rng, 1.0);
+            let compact = k < 30;
+            if k % 5 == 0 {
+                centre = point(rng, 0.8);
+            }
+            let (a, size) = if compact {
+                (centre + point(rng, 0.2), 0.2)
+            } else {
+                (point(rng, 1.0), 0.6)
+            };
             let t = if k % 5 == 4 {
                 // Shares the previous triangle's edge (b, c).
                 let [_, b, c] = tris[k - 1];
-                [c, b, point(rng, 1.0)]
+                [c, b, b + point(rng, size)]
             } else {
-                [a, a + point(rng, 0.6), a + point(rng, 0.6)]
+                [a, a + point(rng, size), a + point(rng, size)]
             };
             tris.push(t);
         }
@@ -409,7 +584,8 @@ mod tests {
             .map(|[a, b, c]| (*b - *a).cross(*c - *a).normalize())
             .collect();
         let culls = (0..tris.len()).map(|k| k % 3 == 0).collect();
-        (tris, normals, culls)
+        let objects = (0..tris.len() as u32).map(|k| (k / 5).min(6)).collect();
+        (tris, normals, culls, objects)
     }
 
     /// The closest hit and occlusion of random rays (some aimed at shared
@@ -428,8 +604,9 @@ mod tests {
             return;
         }
         let mut rng = TestRng::new(11);
-        let (tris, normals, culls) = soup(&mut rng);
-        let scan = TriangleScan::new(&tris, &normals, &culls).unwrap();
+        let (tris, normals, culls, objects) = soup(&mut rng);
+        let scan = TriangleScan::new(&tris, &normals, &culls, &objects).unwrap();
+        let mut skipped = 0;
         let (mut hits, mut edge_rays) = (0, 0);
         for n in 0..20_000 {
             let o = point(&mut rng, 2.5);
@@ -462,7 +639,10 @@ mod tests {
                 }
             }
             // SAFETY: AVX-512F checked above.
-            let got = unsafe { scan.closest_avx512(&ray, d, tmax, camera) };
+            let lanes = |v: Vec3| [[v.x; LANES], [v.y; LANES], [v.z; LANES]];
+            let chunks = scan.chunks_passed(&lanes(o), &lanes(d), &[tmax; LANES])[0];
+            skipped += usize::from(chunks.count_ones() < scan.chunks.len() as u32);
+            let got = unsafe { scan.closest_avx512(&ray, d, tmax, camera, chunks) };
             match (expected, got) {
                 (None, None) => {}
                 (Some((k, e)), Some((j, g))) => {
@@ -494,12 +674,17 @@ mod tests {
             });
             // SAFETY: AVX-512F checked above.
             assert_eq!(
-                unsafe { scan.occluded_avx512(&ray, tmax) },
+                unsafe { scan.occluded_avx512(&ray, tmax, chunks) },
                 blocked,
                 "ray {n}"
             );
         }
-        assert!(hits > 5_000 && edge_rays == 5_000, "{hits} hits");
+        assert!(hits > 4_000 && edge_rays == 5_000, "{hits} hits");
+        // The chunks' bounds kept many rays out of some.
+        assert!(
+            scan.chunks.len() >= 4 && skipped > 10_000,
+            "{skipped} rays skipped chunks"
+        );
     }
 
     /// Beyond [`MAX_TRIANGLES`] the scan is refused.
@@ -508,14 +693,77 @@ mod tests {
         let t = [[Vec3::ZERO, Vec3::X, Vec3::Y]; MAX_TRIANGLES + 1];
         let n = [Vec3::Z; MAX_TRIANGLES + 1];
         let c = [false; MAX_TRIANGLES + 1];
-        assert!(TriangleScan::new(&t, &n, &c).is_none());
-        assert!(
-            TriangleScan::new(
-                &t[..MAX_TRIANGLES],
-                &n[..MAX_TRIANGLES],
-                &c[..MAX_TRIANGLES]
-            )
-            .is_some()
+        let o: Vec<u32> = (0..=MAX_TRIANGLES as u32).collect();
+        assert!(TriangleScan::new(&t, &n, &c, &o).is_none());
+        let m = MAX_TRIANGLES;
+        let scan = TriangleScan::new(&t[..m], &n[..m], &c[..m], &o[..m]).unwrap();
+        // Sixty-four one-triangle objects at one place: merged to the
+        // fewest chunks.
+        assert_eq!(scan.chunks.len(), MAX_TRIANGLES / LANES);
+    }
+
+    /// A Cornell box's objects: the five walls share a chunk with the
+    /// light (inside their bounds), and each block has its own.
+    #[test]
+    fn a_room_shares_a_chunk_and_its_blocks_have_their_own() {
+        let quad = |a: Vec3, b: Vec3, c: Vec3| [[a, b, c], [a, c, b + c - a]];
+        let s = 550.0;
+        let walls = [
+            quad(Vec3::ZERO, Vec3::X * s, Vec3::Z * s),
+            quad(
+                Vec3::Y * s,
+                Vec3::X * s + Vec3::Y * s,
+                Vec3::Z * s + Vec3::Y * s,
+            ),
+            quad(
+                Vec3::Z * s,
+                Vec3::X * s + Vec3::Z * s,
+                Vec3::Y * s + Vec3::Z * s,
+            ),
+            quad(Vec3::ZERO, Vec3::Y * s, Vec3::Z * s),
+            quad(
+                Vec3::X * s,
+                Vec3::X * s + Vec3::Y * s,
+                Vec3::X * s + Vec3::Z * s,
+            ),
+        ];
+        let light = quad(
+            Vec3::new(200.0, 549.0, 200.0),
+            Vec3::new(330.0, 549.0, 200.0),
+            Vec3::new(200.0, 549.0, 330.0),
         );
+        // A block of five faces (ten triangles) at `o`, of size `e`.
+        let block = |o: Vec3, e: f32| {
+            let (x, y, z) = (Vec3::X * e, Vec3::Y * e, Vec3::Z * e);
+            [
+                quad(o + y, o + y + x, o + y + z),
+                quad(o, o + x, o + y),
+                quad(o + z, o + z + x, o + z + y),
+                quad(o, o + z, o + y),
+                quad(o + x, o + x + z, o + x + y),
+            ]
+        };
+        let mut tris = Vec::new();
+        let mut objects = Vec::new();
+        let mut add = |quads: &[[[Vec3; 3]; 2]], object: u32| {
+            for q in quads {
+                tris.extend(q);
+                objects.extend([object; 2]);
+            }
+        };
+        add(&block(Vec3::new(80.0, 0.0, 60.0), 160.0), 0);
+        for (k, w) in walls.iter().enumerate() {
+            add(std::slice::from_ref(w), 1 + k as u32);
+        }
+        add(&[light], 6);
+        add(&block(Vec3::new(300.0, 0.0, 250.0), 200.0), 7);
+        let groups = chunk_groups(&tris, &objects);
+        let mut sizes: Vec<_> = groups.iter().map(Vec::len).collect();
+        sizes.sort_unstable();
+        assert_eq!(sizes, [10, 10, 12], "{groups:?}");
+        // The blocks' triangles: 0..10 and 22..32.
+        let first_block: Vec<usize> = (0..10).collect();
+        let second_block: Vec<usize> = (22..32).collect();
+        assert!(groups.contains(&first_block) && groups.contains(&second_block));
     }
 }

@@ -40,7 +40,7 @@
 // that vectorises plainly.
 #![allow(clippy::needless_range_loop)]
 
-use crate::accel::scan::{self, TriangleScan};
+use crate::accel::scan::{self, TriangleScan, padding, slabs};
 use crate::accel::{Accel, BuildQuality, WatertightRay};
 use crate::geometry::SceneGeometry;
 use crate::lights::LightSampler;
@@ -258,36 +258,6 @@ struct Tracer {
 /// 5,120 run 1.3-1.4x faster than scalar.
 const MAX_BVH_TRIANGLES: usize = 1 << 16;
 
-/// The lanes whose ray `o + t d` may meet the box `[lo, hi]` in (0,
-/// `tmax`), by the slab test; conservative, as the box is padded far
-/// beyond the test's rounding. (A NaN slab distance, 0 × ∞, comes only
-/// from a ray parallel to a padded face that starts in its plane, outside
-/// every triangle; `min` and `max` pass over it.)
-#[inline(always)]
-fn slabs(o: &[F; 3], d: &[F; 3], tmax: &F, [lo, hi]: &[[f32; 3]; 2]) -> B {
-    let mut maybe = [false; LANES];
-    for i in 0..LANES {
-        let mut enter = 0.0f32;
-        let mut exit = tmax[i];
-        for a in 0..3 {
-            let inv = 1.0 / d[a][i];
-            let t0 = (lo[a] - o[a][i]) * inv;
-            let t1 = (hi[a] - o[a][i]) * inv;
-            enter = enter.max(t0.min(t1));
-            exit = exit.min(t0.max(t1));
-        }
-        maybe[i] = enter <= exit;
-    }
-    maybe
-}
-
-/// The padding of the BVH part's box and ball: a thousandth of the
-/// extent and of the coordinates, far beyond the slab and ball tests'
-/// rounding.
-fn padding([lo, hi]: [Vec3; 2]) -> f32 {
-    1e-3 * ((hi - lo).max_element() + lo.abs().max(hi.abs()).max_element())
-}
-
 /// A ball around the points `p` padded by `pad`: the centre of `[lo,
 /// hi]`, the radius the farthest point's distance (in f64) plus `pad`, as
 /// `[cx, cy, cz, r]`.
@@ -343,7 +313,12 @@ impl Tracer {
             .collect();
         objects.sort_by_key(|r| r.len());
         let (mut scanned, mut rest) = (Vec::new(), Vec::new());
+        // The object of each triangle (its instance's first triangle).
+        let mut object = vec![0u32; geometry.triangles.len()];
         for r in objects {
+            for t in r.clone() {
+                object[t as usize] = r.start;
+            }
             if scanned.len() + r.len() <= scan::MAX_TRIANGLES {
                 scanned.extend(r);
             } else {
@@ -366,7 +341,8 @@ impl Tracer {
         } else {
             let n: Vec<Vec3> = scanned.iter().map(|&t| normals[t as usize]).collect();
             let c: Vec<bool> = scanned.iter().map(|&t| culls[t as usize]).collect();
-            let scan = TriangleScan::new(&pick(&scanned), &n, &c)?;
+            let g: Vec<u32> = scanned.iter().map(|&t| object[t as usize]).collect();
+            let scan = TriangleScan::new(&pick(&scanned), &n, &c, &g)?;
             let ids = if rest.is_empty() { Vec::new() } else { scanned };
             Some((scan, ids))
         };
@@ -374,12 +350,7 @@ impl Tracer {
         let bvh = if rest.is_empty() {
             None
         } else {
-            let (mut lo, mut hi) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
-            for &t in &rest {
-                for p in geometry.triangles[t as usize] {
-                    (lo, hi) = (lo.min(p), hi.max(p));
-                }
-            }
+            let [lo, hi] = scan::bounds(rest.iter().flat_map(|&t| geometry.triangles[t as usize]));
             let pad = padding([lo, hi]);
             let (lo, hi) = (lo - pad, hi + pad);
             let bounds = [lo.to_array(), hi.to_array()];
@@ -417,15 +388,17 @@ impl Tracer {
         let mut tmax = [f32::INFINITY; LANES];
         let mut found = [false; LANES];
         if let Some((scan, ids)) = &self.scan {
+            let chunks = scan.chunks_passed(o, d, &tmax);
             for i in 0..LANES {
-                if !live[i] {
+                if !live[i] || chunks[i] == 0 {
                     continue;
                 }
                 let ray = WatertightRay::new(lane(o, i), lane(d, i));
                 // SAFETY: AVX-512F (the caller's contract); the scan's
                 // indices are below `ids.len()`.
                 unsafe {
-                    if let Some((k, h)) = scan.closest_avx512(&ray, lane(d, i), tmax[i], camera[i])
+                    if let Some((k, h)) =
+                        scan.closest_avx512(&ray, lane(d, i), tmax[i], camera[i], chunks[i])
                     {
                         tmax[i] = h.t;
                         // (No map where the scan holds every triangle.)
@@ -469,13 +442,14 @@ impl Tracer {
     unsafe fn unoccluded(&self, (o, d): (&[F; 3], &[F; 3]), tmax: &F, shadow: &mut B) {
         let lane = |v: &[F; 3], i: usize| Vec3::new(v[0][i], v[1][i], v[2][i]);
         if let Some((scan, _)) = &self.scan {
+            let chunks = scan.chunks_passed(o, d, tmax);
             for i in 0..LANES {
-                if !shadow[i] {
+                if !shadow[i] || chunks[i] == 0 {
                     continue;
                 }
                 let ray = WatertightRay::new(lane(o, i), lane(d, i));
                 // SAFETY: AVX-512F (the caller's contract).
-                shadow[i] = !unsafe { scan.occluded_avx512(&ray, tmax[i]) };
+                shadow[i] = !unsafe { scan.occluded_avx512(&ray, tmax[i], chunks[i]) };
             }
         }
         if let Some((accel, _, bounds)) = &self.bvh {
