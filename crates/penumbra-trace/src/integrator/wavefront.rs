@@ -186,7 +186,9 @@ impl Tables {
     }
 
     /// The components `which` of the triangles `index` (one a lane, each
-    /// below the triangle count), each at its own place (the others 0).
+    /// below the triangle count), each into its own place of `out` (the
+    /// others left as they were: a buffer kept across reads, not zeroed
+    /// per read).
     ///
     /// # Safety
     /// The CPU must support AVX-512F.
@@ -195,9 +197,9 @@ impl Tables {
         &self,
         which: &[usize; K],
         index: &[u32; LANES],
-    ) -> [F; ATTRIBUTES] {
+        out: &mut [F; ATTRIBUTES],
+    ) {
         use std::arch::x86_64::*;
-        let mut out = [[0.0f32; LANES]; ATTRIBUTES];
         // SAFETY: AVX-512F (the caller's contract); in blocks, each
         // component is 64 aligned f32 read as four aligned registers; in
         // rows, the gather reads entry `index × ROW + a` with `index <
@@ -229,7 +231,6 @@ impl Tables {
                 }
             }
         }
-        out
     }
 }
 
@@ -660,6 +661,10 @@ unsafe fn trace_group<const GENERAL: bool>(
         depth: [1; LANES],
         camera_hit: [false; LANES],
     };
+    // The attributes of the hits and of the lights sampled, read anew
+    // each segment (a component the scene's kind of surface does not use
+    // is read never, and stays 0).
+    let mut reads = [[[0.0f32; LANES]; ATTRIBUTES]; 2];
     loop {
         // Lanes whose path ended hand in their sample and start their
         // pixel's next one.
@@ -701,7 +706,7 @@ unsafe fn trace_group<const GENERAL: bool>(
         if !any_live {
             return;
         }
-        segment::<GENERAL>(s, &mut p, samplers);
+        segment::<GENERAL>(s, &mut p, samplers, &mut reads);
     }
 }
 
@@ -711,7 +716,12 @@ unsafe fn trace_group<const GENERAL: bool>(
 /// surfaces are all flat and Lambertian (shading normal = face normal, no
 /// dielectric), and the work for the others is left out.
 #[inline(always)]
-fn segment<const GENERAL: bool>(s: &WavefrontScene, p: &mut Paths, samplers: &mut [Sampler]) {
+fn segment<const GENERAL: bool>(
+    s: &WavefrontScene,
+    p: &mut Paths,
+    samplers: &mut [Sampler],
+    [g, l]: &mut [[F; ATTRIBUTES]; 2],
+) {
     // Closest hits.
     let mut tri = [0u32; LANES];
     let mut bary = [[0.0f32; LANES]; 2];
@@ -736,13 +746,13 @@ fn segment<const GENERAL: bool>(s: &WavefrontScene, p: &mut Paths, samplers: &mu
         tri[i] = if p.live[i] { tri[i] } else { 0 };
     }
     // SAFETY: AVX-512F (`trace_group`'s contract); triangle indices.
-    let g = unsafe {
+    unsafe {
         if GENERAL {
-            s.tables.read(&HIT_READS, &tri)
+            s.tables.read(&HIT_READS, &tri, g);
         } else {
-            s.tables.read(&FLAT_LAMBERT_READS, &tri)
+            s.tables.read(&FLAT_LAMBERT_READS, &tri, g);
         }
-    };
+    }
     let mut point = [[0.0f32; LANES]; 3];
     let mut ng = [[0.0f32; LANES]; 3];
     let mut ns = [[0.0f32; LANES]; 3];
@@ -898,7 +908,7 @@ fn segment<const GENERAL: bool>(s: &WavefrontScene, p: &mut Paths, samplers: &mu
         light[i] = unsafe { at(&s.lights, j) };
     }
     // SAFETY: AVX-512F (`trace_group`'s contract); triangle indices.
-    let l = unsafe { s.tables.read(&LIGHT_READS, &light) };
+    unsafe { s.tables.read(&LIGHT_READS, &light, l) };
     let mut shadow_origin = [[0.0f32; LANES]; 3];
     let mut wi = [[0.0f32; LANES]; 3];
     let mut shadow_tmax = [0.0f32; LANES];
