@@ -449,7 +449,7 @@ fn chunk_groups(triangles: &[[Vec3; 3]], objects: &[u32]) -> Vec<Vec<usize>> {
             _ => break,
         }
     }
-    debug_assert!(groups.len() <= MAX_CHUNKS);
+    assert!(groups.len() <= MAX_CHUNKS, "a ray's chunk mask has 16 bits");
     groups
 }
 

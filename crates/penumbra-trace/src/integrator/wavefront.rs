@@ -243,11 +243,19 @@ impl Tables {
 #[derive(Debug)]
 struct Tracer {
     scan: Option<(TriangleScan, Vec<u32>)>,
-    bvh: Option<(Accel, Vec<u32>, [[f32; 3]; 2])>,
-    /// A padded ball around the BVH part, `[cx, cy, cz, r]`: a second
-    /// test of sixteen lanes after the box's, which keeps out the rays
-    /// that pass a round object's box but miss the object (about half of
-    /// a sphere's box's).
+    bvh: Option<BvhPart>,
+}
+
+/// The triangles beyond the scan: their BVH, scene indices, padded
+/// bounds, and a padded ball around them (`[cx, cy, cz, r]`: a second
+/// test of sixteen lanes after the box's, which keeps out the rays that
+/// pass a round object's box but miss the object, about half of a
+/// sphere's box's).
+#[derive(Debug)]
+struct BvhPart {
+    accel: Accel,
+    ids: Vec<u32>,
+    bounds: [[f32; 3]; 2],
     ball: [f32; 4],
 }
 
@@ -347,26 +355,25 @@ impl Tracer {
             let ids = if rest.is_empty() { Vec::new() } else { scanned };
             Some((scan, ids))
         };
-        let mut ball = [0.0; 4];
         let bvh = if rest.is_empty() {
             None
         } else {
             let [lo, hi] = scan::bounds(rest.iter().flat_map(|&t| geometry.triangles[t as usize]));
             let pad = padding([lo, hi]);
             let (lo, hi) = (lo - pad, hi + pad);
-            let bounds = [lo.to_array(), hi.to_array()];
-            ball = bounding_ball(
+            let ball = bounding_ball(
                 rest.iter().flat_map(|&t| geometry.triangles[t as usize]),
                 [lo, hi],
                 pad,
             );
-            Some((
-                Accel::build(&pick(&rest), BuildQuality::Medium),
-                rest,
-                bounds,
-            ))
+            Some(BvhPart {
+                accel: Accel::build(&pick(&rest), BuildQuality::Medium),
+                ids: rest,
+                bounds: [lo.to_array(), hi.to_array()],
+                ball,
+            })
         };
-        Some(Tracer { scan, bvh, ball })
+        Some(Tracer { scan, bvh })
     }
 
     /// The closest hits of the `live` lanes' rays `o + t d`: scene
@@ -414,9 +421,15 @@ impl Tracer {
                 }
             }
         }
-        if let Some((accel, ids, bounds)) = &self.bvh {
+        if let Some(BvhPart {
+            accel,
+            ids,
+            bounds,
+            ball: b,
+        }) = &self.bvh
+        {
             let maybe = slabs(o, d, &tmax, bounds);
-            let near = ball(o, d, &self.ball);
+            let near = ball(o, d, b);
             for i in 0..LANES {
                 if !(live[i] & maybe[i] & near[i]) {
                     continue;
@@ -453,9 +466,15 @@ impl Tracer {
                 shadow[i] = !unsafe { scan.occluded_avx512(&ray, tmax[i], chunks[i]) };
             }
         }
-        if let Some((accel, _, bounds)) = &self.bvh {
+        if let Some(BvhPart {
+            accel,
+            bounds,
+            ball: b,
+            ..
+        }) = &self.bvh
+        {
             let maybe = slabs(o, d, tmax, bounds);
-            let near = ball(o, d, &self.ball);
+            let near = ball(o, d, b);
             for i in 0..LANES {
                 if shadow[i] & maybe[i] & near[i] {
                     shadow[i] = !accel.occluded(&Ray::segment(lane(o, i), lane(d, i), tmax[i]));
