@@ -161,7 +161,7 @@ impl Plan {
 
 /// Half the surface area of `b`, in f64: f32 overflows for boxes
 /// larger than about 10¹⁹ on a side.
-fn area(b: &Aabb) -> f64 {
+pub(super) fn area(b: &Aabb) -> f64 {
     let d = (b.max - b.min).as_dvec3();
     (d.x + d.y) * d.z + d.x * d.y
 }

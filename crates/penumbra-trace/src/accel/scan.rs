@@ -27,8 +27,10 @@
 // that vectorises plainly.
 #![allow(clippy::needless_range_loop)]
 
+use super::collapse::area as half_area;
 use super::watertight::{TriangleHit, WatertightRay};
 use glam::{Vec3, Vec3A};
+use obvhs::aabb::Aabb;
 use std::arch::x86_64::*;
 
 /// Triangles per chunk: one 16-lane register.
@@ -113,19 +115,20 @@ impl TriangleScan {
                 chunk.used |= 1 << lane;
             }
             chunks.push(chunk);
-            let [lo, hi] = padded(group.iter().map(|&k| &triangles[k]));
+            let ([lo, hi], _) = padded(group.iter().flat_map(|&k| triangles[k]));
             bounds.push([lo.to_array(), hi.to_array()]);
         }
         Some(TriangleScan { chunks, bounds })
     }
 
-    /// For each lane's ray `o + t d` in (0, `tmax`), the chunks whose
-    /// bounds it may pass (bit `c` for chunk `c`).
+    /// For each lane's ray `o + t d` in (0, `tmax`), with `inv` = 1 / d
+    /// (see [`reciprocals`]), the chunks whose bounds it may pass (bit `c`
+    /// for chunk `c`).
     #[inline(always)]
-    pub fn chunks_passed(&self, o: &[Lanes; 3], d: &[Lanes; 3], tmax: &Lanes) -> [u16; LANES] {
+    pub fn chunks_passed(&self, o: &[Lanes; 3], inv: &[Lanes; 3], tmax: &Lanes) -> [u16; LANES] {
         let mut masks = [0u16; LANES];
         for (c, b) in self.bounds.iter().enumerate() {
-            let pass = slabs(o, d, tmax, b);
+            let pass = slabs(o, inv, tmax, b);
             for i in 0..LANES {
                 masks[i] |= u16::from(pass[i]) << c;
             }
@@ -376,22 +379,22 @@ impl TriangleScan {
 /// The padding of a box around scene geometry: a thousandth of its
 /// extent and of its coordinates, far beyond the rounding of the slab
 /// test and of a watertight hit's distance.
-pub fn padding([lo, hi]: [Vec3; 2]) -> f32 {
+fn padding([lo, hi]: [Vec3; 2]) -> f32 {
     1e-3 * ((hi - lo).max_element() + lo.abs().max(hi.abs()).max_element())
 }
 
 /// The bounds of `points`.
-pub fn bounds(points: impl Iterator<Item = Vec3>) -> [Vec3; 2] {
+fn bounds(points: impl Iterator<Item = Vec3>) -> [Vec3; 2] {
     points.fold([Vec3::INFINITY, Vec3::NEG_INFINITY], |[lo, hi], p| {
         [lo.min(p), hi.max(p)]
     })
 }
 
-/// The bounds of `triangles` padded by [`padding`].
-fn padded<'a>(triangles: impl Iterator<Item = &'a [Vec3; 3]>) -> [Vec3; 2] {
-    let [lo, hi] = bounds(triangles.flatten().copied());
+/// The bounds of `points` padded by [`padding`], and the padding.
+pub fn padded(points: impl Iterator<Item = Vec3>) -> ([Vec3; 2], f32) {
+    let [lo, hi] = bounds(points);
     let pad = padding([lo, hi]);
-    [lo - pad, hi + pad]
+    ([lo - pad, hi + pad], pad)
 }
 
 /// The triangles of each chunk (indices into `triangles`). The large
@@ -420,9 +423,8 @@ fn chunk_groups(triangles: &[[Vec3; 3]], objects: &[u32]) -> Vec<Vec<usize>> {
     large.sort_unstable();
     groups.extend(large.chunks(LANES).map(<[usize]>::to_vec));
     let area = |g: &[usize]| {
-        let [lo, hi] = padded(g.iter().map(|&k| &triangles[k]));
-        let e = (hi - lo).as_dvec3();
-        2.0 * (e.x * e.y + e.y * e.z + e.z * e.x)
+        let ([lo, hi], _) = padded(g.iter().flat_map(|&k| triangles[k]));
+        half_area(&Aabb::new(lo.into(), hi.into()))
     };
     loop {
         let mut best: Option<(f64, usize, usize)> = None;
@@ -453,15 +455,23 @@ fn chunk_groups(triangles: &[[Vec3; 3]], objects: &[u32]) -> Vec<Vec<usize>> {
     groups
 }
 
+/// 1 / d of each lane's direction `d`, for [`slabs`] (computed once for
+/// the boxes a set of rays is tested against).
+#[inline(always)]
+pub fn reciprocals(d: &[Lanes; 3]) -> [Lanes; 3] {
+    d.map(|a| a.map(|x| 1.0 / x))
+}
+
 /// The lanes whose ray `o + t d` may meet the box `[lo, hi]` in (0,
-/// `tmax`), by the slab test; conservative where the box is padded by
-/// [`padding`], far beyond the test's rounding. (A NaN slab distance, 0 ×
+/// `tmax`), by the slab test with `inv` = 1 / d ([`reciprocals`]);
+/// conservative where the box is padded by [`padded`], far beyond the
+/// test's rounding. (A NaN slab distance, 0 ×
 /// ∞, comes only from a ray parallel to a padded face that starts in its
 /// plane, outside every triangle; `min` and `max` pass over it.)
 #[inline(always)]
 pub fn slabs(
     o: &[Lanes; 3],
-    d: &[Lanes; 3],
+    inv: &[Lanes; 3],
     tmax: &Lanes,
     [lo, hi]: &[[f32; 3]; 2],
 ) -> [bool; LANES] {
@@ -470,9 +480,8 @@ pub fn slabs(
         let mut enter = 0.0f32;
         let mut exit = tmax[i];
         for a in 0..3 {
-            let inv = 1.0 / d[a][i];
-            let t0 = (lo[a] - o[a][i]) * inv;
-            let t1 = (hi[a] - o[a][i]) * inv;
+            let t0 = (lo[a] - o[a][i]) * inv[a][i];
+            let t1 = (hi[a] - o[a][i]) * inv[a][i];
             enter = enter.max(t0.min(t1));
             exit = exit.min(t0.max(t1));
         }
@@ -640,7 +649,7 @@ mod tests {
             }
             // SAFETY: AVX-512F checked above.
             let lanes = |v: Vec3| [[v.x; LANES], [v.y; LANES], [v.z; LANES]];
-            let chunks = scan.chunks_passed(&lanes(o), &lanes(d), &[tmax; LANES])[0];
+            let chunks = scan.chunks_passed(&lanes(o), &lanes(d.recip()), &[tmax; LANES])[0];
             skipped += usize::from(chunks.count_ones() < scan.chunks.len() as u32);
             let got = unsafe { scan.closest_avx512(&ray, d, tmax, camera, chunks) };
             match (expected, got) {

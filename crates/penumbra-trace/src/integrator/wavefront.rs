@@ -40,7 +40,7 @@
 // that vectorises plainly.
 #![allow(clippy::needless_range_loop)]
 
-use crate::accel::scan::{self, TriangleScan, padding, slabs};
+use crate::accel::scan::{self, TriangleScan, padded, reciprocals, slabs};
 use crate::accel::{Accel, BuildQuality, WatertightRay};
 use crate::geometry::SceneGeometry;
 use crate::lights::LightSampler;
@@ -322,12 +322,7 @@ impl Tracer {
             .collect();
         objects.sort_by_key(|r| r.len());
         let (mut scanned, mut rest) = (Vec::new(), Vec::new());
-        // The object of each triangle (its instance's first triangle).
-        let mut object = vec![0u32; geometry.triangles.len()];
         for r in objects {
-            for t in r.clone() {
-                object[t as usize] = r.start;
-            }
             if scanned.len() + r.len() <= scan::MAX_TRIANGLES {
                 scanned.extend(r);
             } else {
@@ -350,7 +345,10 @@ impl Tracer {
         } else {
             let n: Vec<Vec3> = scanned.iter().map(|&t| normals[t as usize]).collect();
             let c: Vec<bool> = scanned.iter().map(|&t| culls[t as usize]).collect();
-            let g: Vec<u32> = scanned.iter().map(|&t| object[t as usize]).collect();
+            let g: Vec<u32> = scanned
+                .iter()
+                .map(|&t| geometry.triangle_source(t).0 as u32)
+                .collect();
             let scan = TriangleScan::new(&pick(&scanned), &n, &c, &g)?;
             let ids = if rest.is_empty() { Vec::new() } else { scanned };
             Some((scan, ids))
@@ -358,9 +356,7 @@ impl Tracer {
         let bvh = if rest.is_empty() {
             None
         } else {
-            let [lo, hi] = scan::bounds(rest.iter().flat_map(|&t| geometry.triangles[t as usize]));
-            let pad = padding([lo, hi]);
-            let (lo, hi) = (lo - pad, hi + pad);
+            let ([lo, hi], pad) = padded(rest.iter().flat_map(|&t| geometry.triangles[t as usize]));
             let ball = bounding_ball(
                 rest.iter().flat_map(|&t| geometry.triangles[t as usize]),
                 [lo, hi],
@@ -395,8 +391,9 @@ impl Tracer {
         let lane = |v: &[F; 3], i: usize| Vec3::new(v[0][i], v[1][i], v[2][i]);
         let mut tmax = [f32::INFINITY; LANES];
         let mut found = [false; LANES];
+        let inv = reciprocals(d);
         if let Some((scan, ids)) = &self.scan {
-            let chunks = scan.chunks_passed(o, d, &tmax);
+            let chunks = scan.chunks_passed(o, &inv, &tmax);
             for i in 0..LANES {
                 if !live[i] || chunks[i] == 0 {
                     continue;
@@ -428,7 +425,7 @@ impl Tracer {
             ball: b,
         }) = &self.bvh
         {
-            let maybe = slabs(o, d, &tmax, bounds);
+            let maybe = slabs(o, &inv, &tmax, bounds);
             let near = ball(o, d, b);
             for i in 0..LANES {
                 if !(live[i] & maybe[i] & near[i]) {
@@ -455,8 +452,9 @@ impl Tracer {
     #[inline(always)]
     unsafe fn unoccluded(&self, (o, d): (&[F; 3], &[F; 3]), tmax: &F, shadow: &mut B) {
         let lane = |v: &[F; 3], i: usize| Vec3::new(v[0][i], v[1][i], v[2][i]);
+        let inv = reciprocals(d);
         if let Some((scan, _)) = &self.scan {
-            let chunks = scan.chunks_passed(o, d, tmax);
+            let chunks = scan.chunks_passed(o, &inv, tmax);
             for i in 0..LANES {
                 if !shadow[i] || chunks[i] == 0 {
                     continue;
@@ -473,7 +471,7 @@ impl Tracer {
             ..
         }) = &self.bvh
         {
-            let maybe = slabs(o, d, tmax, bounds);
+            let maybe = slabs(o, &inv, tmax, bounds);
             let near = ball(o, d, b);
             for i in 0..LANES {
                 if shadow[i] & maybe[i] & near[i] {
@@ -1165,10 +1163,9 @@ mod tests {
             })
             .collect();
         let points = || triangles.iter().flatten().copied();
-        let (lo, hi) = points().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(l, h), p| {
-            (l.min(p), h.max(p))
-        });
-        let b = bounding_ball(points(), [lo, hi], padding([lo, hi]));
+        // As `Tracer::new` builds it.
+        let ([lo, hi], pad) = padded(points());
+        let b = bounding_ball(points(), [lo, hi], pad);
         let (mut hits, mut kept_out) = (0, 0);
         for n in 0..40_000 {
             let far = [3.0, 1e3, 1e5][n % 3];
