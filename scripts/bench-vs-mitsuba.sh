@@ -1,9 +1,12 @@
 #!/usr/bin/env bash
 # Path-tracing efficiency of penumbra and Mitsuba 3 (llvm_ad_rgb) in one run,
-# on the two scenes of issue 13: the Cornell box of ../shared/reference
-# (512², depth 8) and the Cornell box with a glass sphere
-# (crates/penumbra-trace/tests/data/cornell-glass, 256², depth 16), both at
-# 256 spp on all cores. Each render is compared with the scene's reference
+# on the three scenes of issue 13: the Cornell box of ../shared/reference
+# (512², depth 8), the Cornell box with a glass sphere
+# (crates/penumbra-trace/tests/data/cornell-glass, 256², depth 16) and
+# glass, gold, mirror and rough copper spheres over a floor
+# (crates/penumbra-trace/tests/data/metal-spheres, 384×256, depth 16), all
+# at 256 spp on all cores. SCENES="glass cornell metals" (the default)
+# picks some of them. Each render is compared with the scene's reference
 # EXR (../shared/anchors/compare.py) and the efficiency 1/(relMSE · seconds)
 # is printed as a ratio to Mitsuba's. Needs the anchors' venv
 # (../shared/anchors/setup.sh).
@@ -26,6 +29,8 @@ OUT=${OUT:-/tmp/bench-vs-mitsuba}
 source scripts/anchors-env.sh
 REFERENCE=$(cd ../shared/reference && pwd)
 GLASS=$PWD/crates/penumbra-trace/tests/data/cornell-glass
+METALS=$PWD/crates/penumbra-trace/tests/data/metal-spheres
+SCENES=${SCENES:-glass cornell metals}
 CORNELL=$REFERENCE/cornell
 : > "$OUT/results.jsonl"
 : > "$OUT/summary.txt"
@@ -58,8 +63,14 @@ scene() {
   "$PY" "$ANCHORS/compare.py" --ref "$ref" "${tests[@]}" | grep '^{' | tee -a "$OUT/results.jsonl"
 }
 
-scene glass "$GLASS/scene.json" "$GLASS/scene.toml" "$GLASS/reference-path-depth16-4096spp.exr" 16 "$@"
-scene cornell "$CORNELL/scene.json" "$CORNELL/cornell.gltf" "$CORNELL/reference-path-depth8-4096spp.exr" 8 "$@"
+for name in $SCENES; do
+  case $name in
+    glass) scene glass "$GLASS/scene.json" "$GLASS/scene.toml" "$GLASS/reference-path-depth16-4096spp.exr" 16 "$@" ;;
+    cornell) scene cornell "$CORNELL/scene.json" "$CORNELL/cornell.gltf" "$CORNELL/reference-path-depth8-4096spp.exr" 8 "$@" ;;
+    metals) scene metals "$METALS/scene.json" "$METALS/scene.toml" "$METALS/reference-path-depth16-4096spp.exr" 16 "$@" ;;
+    *) echo "bench-vs-mitsuba: unknown scene $name (glass, cornell, metals)" >&2; exit 2 ;;
+  esac
+done
 
 # Efficiency 1/(relMSE · s) of each render, as a ratio to Mitsuba's.
 python3 - "$OUT/results.jsonl" <<'PY' | tee "$OUT/summary.txt"
@@ -72,8 +83,10 @@ for r in rows:
     elif "exr" in r and "seconds" in r:
         seconds[os.path.basename(r["exr"])] = (r.get("binary", r["tool"]), r["seconds"])
 efficiency = lambda exr: 1.0 / (relmse[exr] * seconds[exr][1])
-for scene in ("glass", "cornell"):
+for scene in ("glass", "cornell", "metals"):
     base = f"mitsuba-{scene}.exr"
+    if base not in seconds:
+        continue
     scalar = f"mitsuba-scalar-{scene}.exr"
     print(f"{scene}: Mitsuba {seconds[base][1]:.2f} s, relMSE {relmse[base]:.5f}")
     if scalar in seconds:
