@@ -16,9 +16,13 @@
 //! rounding differs).
 //!
 //! Scope, checked by [`WavefrontScene::new`] (other scenes take the scalar
-//! integrator): the `path` integrator without AOVs; Lambert and smooth
-//! dielectric surfaces (exact Fresnel), shaded flat or with interpolated
-//! vertex normals, without textures or vertex colours; light from emissive
+//! integrator): the `path` integrator without AOVs; surfaces of any BSDF,
+//! shaded flat or with interpolated vertex normals, without textures or
+//! vertex colours (Lambert and smooth dielectric surfaces with exact
+//! Fresnel are written out in lane form; the other models, mirrors,
+//! conductors, Phong, rough dielectrics and metallic–roughness, are
+//! sampled and evaluated lane by lane with the shared [`Bsdf`] code, in
+//! loops apart that run only where a group's lanes hit them); light from emissive
 //! triangles only (no environment, abstract or analytic area lights); a
 //! CPU with AVX-512. `PENUMBRA_SCALAR_PATHS=1` (or
 //! [`crate::RenderOptions::scalar_paths`]) keeps the scalar integrator for
@@ -96,7 +100,8 @@ const _: () = assert!((scan::MAX_TRIANGLES + MAX_BVH_TRIANGLES) * ROW < i32::MAX
 /// probability of being chosen as a light over the triangle's area (0 for
 /// a non-emitter: a light sample's pdf is this × d² / |cos θ_light|); 1 for
 /// a two-sided surface, else 0; the dielectric's relative index η, 0 for a
-/// Lambert surface.
+/// Lambert surface; for a surface of another model (see [`SHARED`]), the
+/// index of its material + 1, else 0.
 const CORNERS: usize = 0;
 const NORMAL: usize = 9;
 const SHADING: usize = 12;
@@ -105,13 +110,20 @@ const EMISSION: usize = 24;
 const PMF_PER_AREA: usize = 27;
 const TWO_SIDED: usize = 28;
 const ETA: usize = 29;
-const ATTRIBUTES: usize = 30;
+/// Surfaces whose model the lanes do not write out (mirrors, conductors,
+/// Phong, rough dielectrics, metallic–roughness) are shaded lane by lane
+/// with the shared [`Bsdf`] code: this component names their material.
+const SHARED: usize = 30;
+const ATTRIBUTES: usize = 31;
+// Material indices are exact in f32.
+const MAX_MATERIALS: usize = 1 << 24;
 
-/// The components a surface hit reads: all of them.
-const HIT_READS: [usize; ATTRIBUTES] = {
-    let mut r = [0; ATTRIBUTES];
+/// The components a surface hit reads: all but [`SHARED`], read apart
+/// where the scene has such surfaces.
+const HIT_READS: [usize; SHARED] = {
+    let mut r = [0; SHARED];
     let mut k = 0;
-    while k < ATTRIBUTES {
+    while k < SHARED {
         r[k] = k;
         k += 1;
     }
@@ -246,17 +258,39 @@ struct Tracer {
     bvh: Option<BvhPart>,
 }
 
-/// The triangles beyond the scan: their BVH, scene indices, padded
-/// bounds, and a padded ball around them (`[cx, cy, cz, r]`: a second
-/// test of sixteen lanes after the box's, which keeps out the rays that
-/// pass a round object's box but miss the object, about half of a
-/// sphere's box's).
+/// The triangles beyond the scan: their BVH, scene indices, and for each
+/// of their objects (one shape around them all where there are more than
+/// [`MAX_SHAPES`]) its padded bounds and a padded ball around it (`[cx,
+/// cy, cz, r]`). A ray enters the BVH only where it passes both tests of
+/// some object, sixteen lanes at a time: the ball keeps out the rays
+/// that pass a round object's box but miss the object, about half of a
+/// sphere's box's, and objects apart keep out those that pass between
+/// them (spheres side by side over a floor).
 #[derive(Debug)]
 struct BvhPart {
     accel: Accel,
     ids: Vec<u32>,
-    bounds: [[f32; 3]; 2],
-    ball: [f32; 4],
+    shapes: Vec<([[f32; 3]; 2], [f32; 4])>,
+}
+
+/// The most objects of the BVH part tested one by one before the walk.
+const MAX_SHAPES: usize = 8;
+
+impl BvhPart {
+    /// The lanes whose ray `o + t d` (t in (0, `tmax`), 1/d = `inv`)
+    /// passes some object's box and ball.
+    #[inline(always)]
+    fn passed(&self, o: &[F; 3], d: &[F; 3], inv: &[F; 3], tmax: &F) -> B {
+        let mut any = [false; LANES];
+        for (bounds, b) in &self.shapes {
+            let maybe = slabs(o, inv, tmax, bounds);
+            let near = ball(o, d, b);
+            for i in 0..LANES {
+                any[i] |= maybe[i] & near[i];
+            }
+        }
+        any
+    }
 }
 
 /// The most triangles the BVH part holds. Beyond, its tree outgrows the
@@ -321,12 +355,13 @@ impl Tracer {
             .map(|i| geometry.instance_triangles(i))
             .collect();
         objects.sort_by_key(|r| r.len());
-        let (mut scanned, mut rest) = (Vec::new(), Vec::new());
+        let (mut scanned, mut rest, mut rest_objects) = (Vec::new(), Vec::new(), Vec::new());
         for r in objects {
             if scanned.len() + r.len() <= scan::MAX_TRIANGLES {
                 scanned.extend(r);
             } else {
-                rest.extend(r);
+                rest.extend(r.clone());
+                rest_objects.push(r);
             }
         }
         // In scene order: of equal distances the scan keeps the lowest index.
@@ -356,17 +391,28 @@ impl Tracer {
         let bvh = if rest.is_empty() {
             None
         } else {
-            let ([lo, hi], pad) = padded(rest.iter().flat_map(|&t| geometry.triangles[t as usize]));
-            let ball = bounding_ball(
-                rest.iter().flat_map(|&t| geometry.triangles[t as usize]),
-                [lo, hi],
-                pad,
-            );
+            let corners = |ts: &[u32]| -> Vec<Vec3> {
+                ts.iter()
+                    .flat_map(|&t| geometry.triangles[t as usize])
+                    .collect()
+            };
+            let shape = |p: Vec<Vec3>| {
+                let ([lo, hi], pad) = padded(p.iter().copied());
+                let ball = bounding_ball(p.into_iter(), [lo, hi], pad);
+                ([lo.to_array(), hi.to_array()], ball)
+            };
+            let shapes = if rest_objects.len() <= MAX_SHAPES {
+                rest_objects
+                    .into_iter()
+                    .map(|r| shape(corners(&r.collect::<Vec<_>>())))
+                    .collect()
+            } else {
+                vec![shape(corners(&rest))]
+            };
             Some(BvhPart {
                 accel: Accel::build(&pick(&rest), BuildQuality::Medium),
                 ids: rest,
-                bounds: [lo.to_array(), hi.to_array()],
-                ball,
+                shapes,
             })
         };
         Some(Tracer { scan, bvh })
@@ -418,17 +464,10 @@ impl Tracer {
                 }
             }
         }
-        if let Some(BvhPart {
-            accel,
-            ids,
-            bounds,
-            ball: b,
-        }) = &self.bvh
-        {
-            let maybe = slabs(o, &inv, &tmax, bounds);
-            let near = ball(o, d, b);
+        if let Some(part @ BvhPart { accel, ids, .. }) = &self.bvh {
+            let passed = part.passed(o, d, &inv, &tmax);
             for i in 0..LANES {
-                if !(live[i] & maybe[i] & near[i]) {
+                if !(live[i] & passed[i]) {
                     continue;
                 }
                 if let Some(h) = accel.intersect(&Ray::segment(lane(o, i), lane(d, i), tmax[i])) {
@@ -464,17 +503,10 @@ impl Tracer {
                 shadow[i] = !unsafe { scan.occluded_avx512(&ray, tmax[i], chunks[i]) };
             }
         }
-        if let Some(BvhPart {
-            accel,
-            bounds,
-            ball: b,
-            ..
-        }) = &self.bvh
-        {
-            let maybe = slabs(o, &inv, tmax, bounds);
-            let near = ball(o, d, b);
+        if let Some(part @ BvhPart { accel, .. }) = &self.bvh {
+            let passed = part.passed(o, d, &inv, tmax);
             for i in 0..LANES {
-                if shadow[i] & maybe[i] & near[i] {
+                if shadow[i] & passed[i] {
                     shadow[i] = !accel.occluded(&Ray::segment(lane(o, i), lane(d, i), tmax[i]));
                 }
             }
@@ -496,6 +528,9 @@ pub(crate) struct WavefrontScene {
     tracer: Tracer,
     /// Every surface is Lambertian and shaded flat.
     flat_lambert: bool,
+    /// The materials' BSDFs, for the surfaces shaded with the shared code
+    /// ([`SHARED`]); empty where there are none.
+    shared_bsdfs: Vec<Bsdf>,
     max_depth: u32,
 }
 
@@ -542,17 +577,24 @@ impl WavefrontScene {
         }
         let mut tables = Tables::new(n);
         let mut flat_lambert = true;
+        let mut any_shared = false;
+        if scene.materials.len() >= MAX_MATERIALS {
+            return None;
+        }
         let mut normal = Vec::with_capacity(n);
         let mut culls = Vec::with_capacity(n);
         for t in 0..n as u32 {
-            let m = &scene.materials[geometry.material_of(t)];
-            let (albedo, eta) = match m.bsdf {
-                Bsdf::Lambert(l) => (l.albedo, 0.0),
+            let material = geometry.material_of(t);
+            let m = &scene.materials[material];
+            // The lanes' own models, else the shared code's.
+            let (albedo, eta, shared) = match m.bsdf {
+                Bsdf::Lambert(l) => (l.albedo, 0.0, 0.0),
                 Bsdf::Dielectric(d) if d.fresnel == FresnelModel::Exact && d.eta > 0.0 => {
-                    (d.tint, d.eta)
+                    (d.tint, d.eta, 0.0)
                 }
-                _ => return None,
+                _ => (Vec3::ZERO, 0.0, (material + 1) as f32),
             };
+            any_shared |= shared != 0.0;
             if m.albedo_texture.is_some()
                 || m.emission_texture.is_some()
                 || m.normal_map.is_some()
@@ -569,7 +611,7 @@ impl WavefrontScene {
             let ng = geometry.front_normal_scaled(t).normalize_or_zero();
             let k = t as usize;
             let shading = geometry.corner_normals(scene, t);
-            flat_lambert &= shading.is_none() && eta == 0.0;
+            flat_lambert &= shading.is_none() && eta == 0.0 && shared == 0.0;
             let shading = shading.unwrap_or([Vec3::ZERO; 3]);
             for a in 0..3 {
                 for c in 0..3 {
@@ -582,6 +624,7 @@ impl WavefrontScene {
             }
             tables.set(TWO_SIDED, k, if m.double_sided { 1.0 } else { 0.0 });
             tables.set(ETA, k, eta);
+            tables.set(SHARED, k, shared);
             normal.push(ng);
             culls.push(m.cull_back_faces);
         }
@@ -599,6 +642,11 @@ impl WavefrontScene {
             tracer: Tracer::new(geometry, scene, &normal, &culls)?,
             tables,
             flat_lambert,
+            shared_bsdfs: if any_shared {
+                scene.materials.iter().map(|m| m.bsdf).collect()
+            } else {
+                Vec::new()
+            },
             lights,
             running_sums: running_sums.to_vec(),
             total_weight,
@@ -766,6 +814,9 @@ fn segment<const GENERAL: bool>(
     unsafe {
         if GENERAL {
             s.tables.read(&HIT_READS, &tri, g);
+            if !s.shared_bsdfs.is_empty() {
+                s.tables.read(&[SHARED], &tri, g);
+            }
         } else {
             s.tables.read(&FLAT_LAMBERT_READS, &tri, g);
         }
@@ -812,6 +863,11 @@ fn segment<const GENERAL: bool>(
     } else {
         [false; LANES]
     };
+    // Surfaces the shared code shades (the component stays 0 where the
+    // scene has none: it is never read).
+    let shared: B = std::array::from_fn(|i| GENERAL & p.live[i] & (g[SHARED][i] != 0.0));
+    let any_shared = shared.iter().any(|&x| x);
+    let mut back_side = [false; LANES];
     // Emission reached by this segment, weighted against next-event
     // estimation; then the surface seen from the ray's side, as
     // `TraceContext::shading` sees it, in its shading frame.
@@ -848,6 +904,7 @@ fn segment<const GENERAL: bool>(
         // From behind: one-sided opaque surfaces are black there; the
         // others turn their normals, and a dielectric's index inverts.
         let back = dn > 0.0;
+        back_side[i] = back;
         for a in 0..3 {
             ng[a][i] = if back { -ng[a][i] } else { ng[a][i] };
             ns[a][i] = if back { -ns[a][i] } else { ns[a][i] };
@@ -887,9 +944,23 @@ fn segment<const GENERAL: bool>(
         }
         // Black Lambert surfaces reflect nothing (a path ends there as
         // `path::li`'s would add nothing more).
-        let black =
-            !dielectric[i] & (albedo[0][i] == 0.0) & (albedo[1][i] == 0.0) & (albedo[2][i] == 0.0);
-        p.live[i] &= (!back | two_sided | dielectric[i]) & !black & (p.depth[i] < s.max_depth);
+        let black = !dielectric[i]
+            & !shared[i]
+            & (albedo[0][i] == 0.0)
+            & (albedo[1][i] == 0.0)
+            & (albedo[2][i] == 0.0);
+        p.live[i] &=
+            (!back | two_sided | dielectric[i] | shared[i]) & !black & (p.depth[i] < s.max_depth);
+    }
+    // The shared models as `TraceContext::shading` sees them: one-sided
+    // opaque surfaces are black from behind.
+    if any_shared {
+        for i in 0..LANES {
+            if shared[i] {
+                let transmits = shared_material(s, g[SHARED][i]).flags().transmission;
+                p.live[i] &= !back_side[i] | (g[TWO_SIDED][i] != 0.0) | transmits;
+            }
+        }
     }
     // Next-event estimation, its numbers drawn as `path::next_event` draws
     // them (also where a dielectric then skips it).
@@ -931,6 +1002,7 @@ fn segment<const GENERAL: bool>(
     let mut shadow_tmax = [0.0f32; LANES];
     let mut shadow = [false; LANES];
     let mut contribution = [[0.0f32; LANES]; 3];
+    let mut light_pdf = [0.0f32; LANES];
     for i in 0..LANES {
         // A uniform point of the triangle.
         let Vec2 { x: b0, y: b1 } = square_to_triangle([u_light[0][i], u_light[1][i]]);
@@ -955,16 +1027,18 @@ fn segment<const GENERAL: bool>(
         let gn = w[0] * ng[0][i] + w[1] * ng[1][i] + w[2] * ng[2][i];
         let consistent = (gn != 0.0) & (wl[2] != 0.0) & ((gn > 0.0) == (wl[2] > 0.0));
         let reflects = wl[2] > 0.0;
+        // (A shared model's BSDF, evaluated below, may transmit.)
         let ok = p.live[i]
             & !dielectric[i]
             & (dist2 > 0.0)
             & lit_side
             & (cos_light > 1e-7)
             & consistent
-            & reflects;
+            & (reflects | shared[i]);
         // Area density → solid angle, with the selection: pdf = P(light)
         // d² / (A |cos θ_light|).
         let pdf = l[PMF_PER_AREA][i] * dist2 / cos_light;
+        light_pdf[i] = pdf;
         let cos = wl[2].abs();
         let weight = power_heuristic(pdf, wl[2].max(0.0) * FRAC_1_PI);
         // f cos / pdf with f = albedo / π.
@@ -973,15 +1047,41 @@ fn segment<const GENERAL: bool>(
         } else {
             0.0
         };
+        // `TraceContext::spawn`: off the surface on `wi`'s side (a live
+        // lane's Lambert sample is on the normal's).
+        let side = if GENERAL && gn < 0.0 { -1.0 } else { 1.0 };
         for a in 0..3 {
             contribution[a][i] = p.beta[a][i] * albedo[a][i] * l[EMISSION + a][i] * scale;
-            // `wi` leaves on the (turned) geometric normal's side.
-            shadow_origin[a][i] = offset_coordinate(point[a][i], ng[a][i]);
+            shadow_origin[a][i] = offset_coordinate(point[a][i], side * ng[a][i]);
             wi[a][i] = w[a];
         }
         // Stop just short of the light, as `TraceContext::visible`.
         shadow_tmax[i] = dist * (1.0 - 1e-4);
         shadow[i] = ok;
+    }
+    // The shared models' f and pdf, as `path::next_event` weighs them (a
+    // BSDF of delta lobes only evaluates to 0 everywhere: no shadow ray,
+    // as `next_event` skips it).
+    if any_shared {
+        for i in 0..LANES {
+            if shadow[i] & shared[i] {
+                let bsdf = seen_from(shared_material(s, g[SHARED][i]), back_side[i]);
+                let w = [wi[0][i], wi[1][i], wi[2][i]];
+                let wl = Vec3::new(
+                    w[0] * frame_s[0][i] + w[1] * frame_s[1][i] + w[2] * frame_s[2][i],
+                    w[0] * frame_t[0][i] + w[1] * frame_t[1][i] + w[2] * frame_t[2][i],
+                    w[0] * ns[0][i] + w[1] * ns[1][i] + w[2] * ns[2][i],
+                );
+                let wo = Vec3::new(wo_local[0][i], wo_local[1][i], wo_local[2][i]);
+                let f = bsdf.eval(wo, wl);
+                shadow[i] = f != Vec3::ZERO;
+                let pdf = light_pdf[i];
+                let scale = wl.z.abs() * power_heuristic(pdf, bsdf.pdf(wo, wl)) / pdf;
+                for a in 0..3 {
+                    contribution[a][i] = p.beta[a][i] * f[a] * l[EMISSION + a][i] * scale;
+                }
+            }
+        }
     }
     crate::stats::count_rays(shadow.iter().filter(|&&l| l).count() as u64);
     // SAFETY: AVX-512F (`trace_group`'s contract).
@@ -1003,6 +1103,30 @@ fn segment<const GENERAL: bool>(
             [u_bsdf[0][i], u_bsdf[1][i]] = samplers[i].next_2d();
             if p.depth[i] > RR_START_DEPTH {
                 u_rr[i] = samplers[i].next_1d();
+            }
+        }
+    }
+    // The shared models' samples: direction (local), weight, pdf (0 for a
+    // delta lobe, whose emitter hit gets weight 1) and η crossed.
+    let mut shared_dir = [[0.0f32; LANES]; 3];
+    let mut shared_weight = [[0.0f32; LANES]; 3];
+    let mut shared_pdf = [0.0f32; LANES];
+    let mut shared_eta = [1.0f32; LANES];
+    let mut shared_ok = [false; LANES];
+    if any_shared {
+        for i in 0..LANES {
+            if shared[i] & p.live[i] {
+                let bsdf = seen_from(shared_material(s, g[SHARED][i]), back_side[i]);
+                let wo = Vec3::new(wo_local[0][i], wo_local[1][i], wo_local[2][i]);
+                if let Some(bs) = bsdf.sample(wo, u_lobe[i], [u_bsdf[0][i], u_bsdf[1][i]]) {
+                    for a in 0..3 {
+                        shared_dir[a][i] = bs.wi[a];
+                        shared_weight[a][i] = bs.weight[a];
+                    }
+                    shared_pdf[i] = if bs.delta { 0.0 } else { bs.pdf };
+                    shared_eta[i] = bs.eta;
+                    shared_ok[i] = true;
+                }
             }
         }
     }
@@ -1036,7 +1160,9 @@ fn segment<const GENERAL: bool>(
         let rt = 1.0 / (t[0] * t[0] + t[1] * t[1] + t[2] * t[2]).sqrt();
         let transmits = (fresnel < 1.0) & (disc >= 0.0);
         let refracts = transmits & (u_lobe[i] >= fresnel);
-        let local = if !dielectric[i] {
+        let local = if shared[i] {
+            [shared_dir[0][i], shared_dir[1][i], shared_dir[2][i]]
+        } else if !dielectric[i] {
             [cosine.x, cosine.y, cosine.z]
         } else if refracts {
             t.map(|c| c * rt)
@@ -1049,9 +1175,16 @@ fn segment<const GENERAL: bool>(
         }
         let gn = w[0] * ng[0][i] + w[1] * ng[1][i] + w[2] * ng[2][i];
         let consistent = (gn != 0.0) & (local[2] != 0.0) & ((gn > 0.0) == (local[2] > 0.0));
-        let mut alive = p.live[i] & consistent & (dielectric[i] | (lambert_pdf > 0.0));
+        let sampled = if shared[i] {
+            shared_ok[i]
+        } else {
+            dielectric[i] | (lambert_pdf > 0.0)
+        };
+        let mut alive = p.live[i] & consistent & sampled;
         for a in 0..3 {
-            let weight = if !dielectric[i] {
+            let weight = if shared[i] {
+                shared_weight[a][i]
+            } else if !dielectric[i] {
                 albedo[a][i]
             } else if refracts {
                 albedo[a][i] / (e * e)
@@ -1060,9 +1193,15 @@ fn segment<const GENERAL: bool>(
             };
             p.beta[a][i] *= weight;
         }
-        if refracts {
-            p.eta_scale[i] = p.eta_scale[i] * e * e;
-        }
+        // (× 1 · 1 is exact: a reflection leaves it as it was.)
+        let crossed = if shared[i] {
+            shared_eta[i]
+        } else if refracts {
+            e
+        } else {
+            1.0
+        };
+        p.eta_scale[i] = p.eta_scale[i] * crossed * crossed;
         let q = if p.depth[i] > RR_START_DEPTH {
             let beta = Vec3::new(p.beta[0][i], p.beta[1][i], p.beta[2][i]);
             rr_survival(beta, p.eta_scale[i])
@@ -1080,9 +1219,29 @@ fn segment<const GENERAL: bool>(
             p.prev_point[a][i] = point[a][i];
         }
         // After a delta lobe the emitter hit gets weight 1.
-        p.prev_pdf[i] = if dielectric[i] { 0.0 } else { lambert_pdf };
+        p.prev_pdf[i] = if shared[i] {
+            shared_pdf[i]
+        } else if dielectric[i] {
+            0.0
+        } else {
+            lambert_pdf
+        };
         p.live[i] = alive;
     }
+}
+
+/// The BSDF of a surface the shared code shades, from its [`SHARED`]
+/// component (the material's index + 1).
+#[inline]
+fn shared_material(s: &WavefrontScene, shared: f32) -> Bsdf {
+    s.shared_bsdfs[shared as usize - 1]
+}
+
+/// `bsdf` as `TraceContext::shading` sees it from the side the ray came
+/// from.
+#[inline]
+fn seen_from(bsdf: Bsdf, back: bool) -> Bsdf {
+    if back { bsdf.seen_from_back() } else { bsdf }
 }
 
 /// Sample indices `s0..s1` of the tile `(x0, y0, w, h)`'s pixels onto
