@@ -391,10 +391,8 @@ impl Tracer {
         let bvh = if rest.is_empty() {
             None
         } else {
-            let corners = |ts: &[u32]| -> Vec<Vec3> {
-                ts.iter()
-                    .flat_map(|&t| geometry.triangles[t as usize])
-                    .collect()
+            let corners = |ts: &mut dyn Iterator<Item = u32>| -> Vec<Vec3> {
+                ts.flat_map(|t| geometry.triangles[t as usize]).collect()
             };
             let shape = |p: Vec<Vec3>| {
                 let ([lo, hi], pad) = padded(p.iter().copied());
@@ -404,10 +402,10 @@ impl Tracer {
             let shapes = if rest_objects.len() <= MAX_SHAPES {
                 rest_objects
                     .into_iter()
-                    .map(|r| shape(corners(&r.collect::<Vec<_>>())))
+                    .map(|mut r| shape(corners(&mut r)))
                     .collect()
             } else {
-                vec![shape(corners(&rest))]
+                vec![shape(corners(&mut rest.iter().copied()))]
             };
             Some(BvhPart {
                 accel: Accel::build(&pick(&rest), BuildQuality::Medium),
@@ -1002,6 +1000,9 @@ fn segment<const GENERAL: bool>(
     let mut shadow_tmax = [0.0f32; LANES];
     let mut shadow = [false; LANES];
     let mut contribution = [[0.0f32; LANES]; 3];
+    // The light's direction in the shading frame and its density, for the
+    // shared models.
+    let mut wi_local = [[0.0f32; LANES]; 3];
     let mut light_pdf = [0.0f32; LANES];
     for i in 0..LANES {
         // A uniform point of the triangle.
@@ -1039,6 +1040,9 @@ fn segment<const GENERAL: bool>(
         // d² / (A |cos θ_light|).
         let pdf = l[PMF_PER_AREA][i] * dist2 / cos_light;
         light_pdf[i] = pdf;
+        for a in 0..3 {
+            wi_local[a][i] = wl[a];
+        }
         let cos = wl[2].abs();
         let weight = power_heuristic(pdf, wl[2].max(0.0) * FRAC_1_PI);
         // f cos / pdf with f = albedo / π.
@@ -1066,12 +1070,7 @@ fn segment<const GENERAL: bool>(
         for i in 0..LANES {
             if shadow[i] & shared[i] {
                 let bsdf = seen_from(shared_material(s, g[SHARED][i]), back_side[i]);
-                let w = [wi[0][i], wi[1][i], wi[2][i]];
-                let wl = Vec3::new(
-                    w[0] * frame_s[0][i] + w[1] * frame_s[1][i] + w[2] * frame_s[2][i],
-                    w[0] * frame_t[0][i] + w[1] * frame_t[1][i] + w[2] * frame_t[2][i],
-                    w[0] * ns[0][i] + w[1] * ns[1][i] + w[2] * ns[2][i],
-                );
+                let wl = Vec3::new(wi_local[0][i], wi_local[1][i], wi_local[2][i]);
                 let wo = Vec3::new(wo_local[0][i], wo_local[1][i], wo_local[2][i]);
                 let f = bsdf.eval(wo, wl);
                 shadow[i] = f != Vec3::ZERO;
