@@ -16,8 +16,12 @@ this folder); tests read it, they never run Mitsuba."""
 import json
 import math
 import os
+import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.dirname(HERE))  # ../icosphere.py
+from icosphere import icosphere  # noqa: E402
+
 RADIUS = 0.5
 LEVELS = 3  # 20 · 4³ = 1280 triangles a sphere
 RESOLUTION = (384, 256)
@@ -45,34 +49,6 @@ QUADS = {
     # The light faces down (front = counter-clockwise from below).
     "light": [(-0.75, 3, -0.25), (0.75, 3, -0.25), (0.75, 3, 1.25), (-0.75, 3, 1.25)],
 }
-
-
-def icosphere(levels):
-    t = (1 + 5 ** 0.5) / 2
-    v = [(-1, t, 0), (1, t, 0), (-1, -t, 0), (1, -t, 0), (0, -1, t), (0, 1, t),
-         (0, -1, -t), (0, 1, -t), (t, 0, -1), (t, 0, 1), (-t, 0, -1), (-t, 0, 1)]
-    v = [tuple(c / math.sqrt(sum(x * x for x in p)) for c in p) for p in v]
-    f = [(0, 11, 5), (0, 5, 1), (0, 1, 7), (0, 7, 10), (0, 10, 11), (1, 5, 9), (5, 11, 4),
-         (11, 10, 2), (10, 7, 6), (7, 1, 8), (3, 9, 4), (3, 4, 2), (3, 2, 6), (3, 6, 8),
-         (3, 8, 9), (4, 9, 5), (2, 4, 11), (6, 2, 10), (8, 6, 7), (9, 8, 1)]
-    for _ in range(levels):
-        mid = {}
-
-        def m(a, b):
-            key = (min(a, b), max(a, b))
-            if key not in mid:
-                p = [(x + y) / 2 for x, y in zip(v[a], v[b])]
-                n = math.sqrt(sum(x * x for x in p))
-                v.append(tuple(x / n for x in p))
-                mid[key] = len(v) - 1
-            return mid[key]
-
-        g = []
-        for a, b, c in f:
-            ab, bc, ca = m(a, b), m(b, c), m(c, a)
-            g += [(a, ab, ca), (b, bc, ab), (c, ca, bc), (ab, bc, ca)]
-        f = g
-    return v, f
 
 
 def normal(q):
