@@ -114,7 +114,10 @@ const ETA: usize = 29;
 /// Phong, rough dielectrics, metallic–roughness) are shaded lane by lane
 /// with the shared [`Bsdf`] code: this component names their material.
 const SHARED: usize = 30;
-const ATTRIBUTES: usize = 31;
+/// For a triangle of a convex object with a shape of its own in the BVH
+/// part ([`BvhPart::convex`]), that shape's index + 1, else 0.
+const CONVEX: usize = 31;
+const ATTRIBUTES: usize = 32;
 // Material indices are exact in f32.
 const MAX_MATERIALS: usize = 1 << 24;
 
@@ -256,6 +259,9 @@ impl Tables {
 struct Tracer {
     scan: Option<(TriangleScan, Vec<u32>)>,
     bvh: Option<BvhPart>,
+    /// The triangles of the BVH part's convex objects, each object's
+    /// with its shape's index + 1 (the [`CONVEX`] component).
+    convex: Vec<(std::ops::Range<u32>, u32)>,
 }
 
 /// The triangles beyond the scan: their BVH, scene indices, and for each
@@ -265,7 +271,10 @@ struct Tracer {
 /// some object, sixteen lanes at a time: the ball keeps out the rays
 /// that pass a round object's box but miss the object, about half of a
 /// sphere's box's, and objects apart keep out those that pass between
-/// them (spheres side by side over a floor).
+/// them (spheres side by side over a floor). A ray that leaves a convex
+/// object from its outer side skips that object's tests: it cannot meet
+/// it again (rays reflected off a metal sphere or refracted out of a glass
+/// one; [`convex`]).
 #[derive(Debug)]
 struct BvhPart {
     accel: Accel,
@@ -278,19 +287,66 @@ const MAX_SHAPES: usize = 8;
 
 impl BvhPart {
     /// The lanes whose ray `o + t d` (t in (0, `tmax`), 1/d = `inv`)
-    /// passes some object's box and ball.
+    /// passes some object's box and ball, other than the object `leaves`
+    /// names (its shape's index + 1; 0 for none): a convex object the ray
+    /// leaves from its outer side, which it cannot meet again.
     #[inline(always)]
-    fn passed(&self, o: &[F; 3], d: &[F; 3], inv: &[F; 3], tmax: &F) -> B {
+    fn passed(&self, o: &[F; 3], d: &[F; 3], inv: &[F; 3], tmax: &F, leaves: &[u32; LANES]) -> B {
         let mut any = [false; LANES];
-        for (bounds, b) in &self.shapes {
+        for (k, (bounds, b)) in self.shapes.iter().enumerate() {
             let maybe = slabs(o, inv, tmax, bounds);
             let near = ball(o, d, b);
             for i in 0..LANES {
-                any[i] |= maybe[i] & near[i];
+                any[i] |= maybe[i] & near[i] & (leaves[i] != k as u32 + 1);
             }
         }
         any
     }
+}
+
+/// The most face-corner pairs of an object checked for convexity (each
+/// face against each corner, faces in parallel: about 10 ms on two cores
+/// for a sphere of 5,120 triangles and 2,562 corners, 13M pairs).
+const MAX_CONVEX_CHECK: usize = 1 << 25;
+
+/// Whether the triangles `t` (world space) with unit front normals `n`
+/// bound a convex object with their fronts outside: every corner of the
+/// object lies behind each face's plane by more than 1e-6 of its distance
+/// from the face (in f64), the face's own corners aside. Then a ray that
+/// leaves one of its faces on the front side (from a point in front of
+/// that face's plane, in a direction that does not turn back towards it)
+/// stays in front of that plane and cannot meet the object. (Coplanar
+/// faces, as a box's, fail the margin: such objects count as not convex.)
+fn convex(t: &[[Vec3; 3]], n: &[Vec3]) -> bool {
+    if t.len() < 4 {
+        return false;
+    }
+    let mut bits: Vec<[u32; 3]> = t
+        .iter()
+        .flatten()
+        .map(|v| v.to_array().map(f32::to_bits))
+        .collect();
+    bits.sort_unstable();
+    bits.dedup();
+    let corners: Vec<glam::DVec3> = bits
+        .iter()
+        .map(|b| glam::DVec3::from_array(b.map(|x| f64::from(f32::from_bits(x)))))
+        .collect();
+    if t.len() * corners.len() > MAX_CONVEX_CHECK {
+        return false;
+    }
+    use rayon::prelude::*;
+    t.par_iter().zip(n).all(|(f, front)| {
+        let [a, b, c] = f.map(|v| v.as_dvec3());
+        let m = (b - a).cross(c - a);
+        // Oriented as the front (a mirrored instance turns its winding).
+        let m = if m.dot(front.as_dvec3()) < 0.0 { -m } else { m };
+        let len = m.length();
+        len > 0.0
+            && corners.iter().all(|&v| {
+                v == a || v == b || v == c || m.dot(v - a) < -1e-6 * len * (v - a).length()
+            })
+    })
 }
 
 /// The most triangles the BVH part holds. Beyond, its tree outgrows the
@@ -356,12 +412,14 @@ impl Tracer {
             .collect();
         objects.sort_by_key(|r| r.len());
         let (mut scanned, mut rest, mut rest_objects) = (Vec::new(), Vec::new(), Vec::new());
+        let mut convex_candidates = Vec::new();
         for r in objects {
             if scanned.len() + r.len() <= scan::MAX_TRIANGLES {
                 scanned.extend(r);
             } else {
                 rest.extend(r.clone());
-                rest_objects.push(r);
+                rest_objects.push(r.clone());
+                convex_candidates.push(r);
             }
         }
         // In scene order: of equal distances the scan keeps the lowest index.
@@ -413,13 +471,30 @@ impl Tracer {
                 shapes,
             })
         };
-        Some(Tracer { scan, bvh })
+        // (Only objects with a shape of their own: a lane names the shape
+        // its ray leaves.)
+        let convex = if convex_candidates.len() <= MAX_SHAPES {
+            convex_candidates
+                .into_iter()
+                .enumerate()
+                .filter(|(_, r)| {
+                    let ids: Vec<u32> = r.clone().collect();
+                    let n: Vec<Vec3> = ids.iter().map(|&t| normals[t as usize]).collect();
+                    convex(&pick(&ids), &n)
+                })
+                .map(|(k, r)| (r, k as u32 + 1))
+                .collect()
+        } else {
+            Vec::new()
+        };
+        Some(Tracer { scan, bvh, convex })
     }
 
     /// The closest hits of the `live` lanes' rays `o + t d`: scene
     /// triangle and barycentrics, in `tri` and `bary`; lanes whose ray
     /// meets nothing leave `live`. `camera` passes through the back faces
-    /// of triangles that cull them.
+    /// of triangles that cull them; `leaves` names the convex object of
+    /// the BVH part each ray leaves (see [`BvhPart::passed`]).
     ///
     /// # Safety
     /// The CPU must support AVX-512F.
@@ -428,6 +503,7 @@ impl Tracer {
         &self,
         (o, d): (&[F; 3], &[F; 3]),
         camera: &B,
+        leaves: &[u32; LANES],
         live: &mut B,
         tri: &mut [u32; LANES],
         bary: &mut [F; 2],
@@ -463,7 +539,7 @@ impl Tracer {
             }
         }
         if let Some(part @ BvhPart { accel, ids, .. }) = &self.bvh {
-            let passed = part.passed(o, d, &inv, &tmax);
+            let passed = part.passed(o, d, &inv, &tmax, leaves);
             for i in 0..LANES {
                 if !(live[i] & passed[i]) {
                     continue;
@@ -482,12 +558,19 @@ impl Tracer {
     }
 
     /// Which of the `shadow` lanes' rays `o + t d` meet nothing in (0,
-    /// `tmax`): the others leave `shadow`.
+    /// `tmax`): the others leave `shadow`. `leaves` as for
+    /// [`Self::closest`].
     ///
     /// # Safety
     /// The CPU must support AVX-512F.
     #[inline(always)]
-    unsafe fn unoccluded(&self, (o, d): (&[F; 3], &[F; 3]), tmax: &F, shadow: &mut B) {
+    unsafe fn unoccluded(
+        &self,
+        (o, d): (&[F; 3], &[F; 3]),
+        tmax: &F,
+        leaves: &[u32; LANES],
+        shadow: &mut B,
+    ) {
         let lane = |v: &[F; 3], i: usize| Vec3::new(v[0][i], v[1][i], v[2][i]);
         let inv = reciprocals(d);
         if let Some((scan, _)) = &self.scan {
@@ -502,7 +585,7 @@ impl Tracer {
             }
         }
         if let Some(part @ BvhPart { accel, .. }) = &self.bvh {
-            let passed = part.passed(o, d, &inv, tmax);
+            let passed = part.passed(o, d, &inv, tmax, leaves);
             for i in 0..LANES {
                 if shadow[i] & passed[i] {
                     shadow[i] = !accel.occluded(&Ray::segment(lane(o, i), lane(d, i), tmax[i]));
@@ -636,8 +719,14 @@ impl WavefrontScene {
             let pmf = distribution.pmf(entry) / geometry.area(t);
             tables.set(PMF_PER_AREA, t as usize, pmf);
         }
+        let tracer = Tracer::new(geometry, scene, &normal, &culls)?;
+        for (triangles, shape) in &tracer.convex {
+            for t in triangles.clone() {
+                tables.set(CONVEX, t as usize, *shape as f32);
+            }
+        }
         Some(WavefrontScene {
-            tracer: Tracer::new(geometry, scene, &normal, &culls)?,
+            tracer,
             tables,
             flat_lambert,
             shared_bsdfs: if any_shared {
@@ -682,6 +771,9 @@ struct Paths {
     /// camera ray (emitters it hits get weight 1).
     prev_pdf: F,
     prev_point: [F; 3],
+    /// The convex object of the BVH part the ray leaves from its outer
+    /// side, as its shape's index + 1 (0: none), which it cannot meet.
+    leaves: [u32; LANES],
     depth: [u32; LANES],
     camera_hit: B,
 }
@@ -721,6 +813,7 @@ unsafe fn trace_group<const GENERAL: bool>(
         eta_scale: [1.0; LANES],
         prev_pdf: [0.0; LANES],
         prev_point: [[0.0; LANES]; 3],
+        leaves: [0; LANES],
         depth: [1; LANES],
         camera_hit: [false; LANES],
     };
@@ -759,6 +852,7 @@ unsafe fn trace_group<const GENERAL: bool>(
                 }
                 p.eta_scale[i] = 1.0;
                 p.prev_pdf[i] = 0.0;
+                p.leaves[i] = 0;
                 p.depth[i] = 1;
                 p.camera_hit[i] = false;
                 p.live[i] = true;
@@ -795,6 +889,7 @@ fn segment<const GENERAL: bool>(
         s.tracer.closest(
             (&p.origin, &p.dir),
             &camera,
+            &p.leaves,
             &mut p.live,
             &mut tri,
             &mut bary,
@@ -814,6 +909,9 @@ fn segment<const GENERAL: bool>(
             s.tables.read(&HIT_READS, &tri, g);
             if !s.shared_bsdfs.is_empty() {
                 s.tables.read(&[SHARED], &tri, g);
+            }
+            if !s.tracer.convex.is_empty() {
+                s.tables.read(&[CONVEX], &tri, g);
             }
         } else {
             s.tables.read(&FLAT_LAMBERT_READS, &tri, g);
@@ -1004,6 +1102,7 @@ fn segment<const GENERAL: bool>(
     // shared models.
     let mut wi_local = [[0.0f32; LANES]; 3];
     let mut light_pdf = [0.0f32; LANES];
+    let mut shadow_leaves = [0u32; LANES];
     for i in 0..LANES {
         // A uniform point of the triangle.
         let Vec2 { x: b0, y: b1 } = square_to_triangle([u_light[0][i], u_light[1][i]]);
@@ -1062,6 +1161,7 @@ fn segment<const GENERAL: bool>(
         // Stop just short of the light, as `TraceContext::visible`.
         shadow_tmax[i] = dist * (1.0 - 1e-4);
         shadow[i] = ok;
+        shadow_leaves[i] = leaving(GENERAL, gn, back_side[i], g[CONVEX][i]);
     }
     // The shared models' f and pdf, as `path::next_event` weighs them (a
     // BSDF of delta lobes only evaluates to 0 everywhere: no shadow ray,
@@ -1085,8 +1185,12 @@ fn segment<const GENERAL: bool>(
     crate::stats::count_rays(shadow.iter().filter(|&&l| l).count() as u64);
     // SAFETY: AVX-512F (`trace_group`'s contract).
     unsafe {
-        s.tracer
-            .unoccluded((&shadow_origin, &wi), &shadow_tmax, &mut shadow);
+        s.tracer.unoccluded(
+            (&shadow_origin, &wi),
+            &shadow_tmax,
+            &shadow_leaves,
+            &mut shadow,
+        );
     }
     for i in 0..LANES {
         for a in 0..3 {
@@ -1217,6 +1321,7 @@ fn segment<const GENERAL: bool>(
             p.dir[a][i] = w[a];
             p.prev_point[a][i] = point[a][i];
         }
+        p.leaves[i] = leaving(GENERAL, gn, back_side[i], g[CONVEX][i]);
         // After a delta lobe the emitter hit gets weight 1.
         p.prev_pdf[i] = if shared[i] {
             shared_pdf[i]
@@ -1226,6 +1331,20 @@ fn segment<const GENERAL: bool>(
             lambert_pdf
         };
         p.live[i] = alive;
+    }
+}
+
+/// The convex object a ray leaves (its [`CONVEX`] component `convex`),
+/// where it leaves on the object's outer side: `gn`, the ray's direction
+/// against the geometric normal turned to the side the hit was seen
+/// from, is positive on the front (outer) side of a hit from the front,
+/// negative for a hit from behind (inside). 0 where not.
+#[inline(always)]
+fn leaving(general: bool, gn: f32, back: bool, convex: f32) -> u32 {
+    if general && ((gn > 0.0) != back) {
+        convex as u32
+    } else {
+        0
     }
 }
 
@@ -1363,5 +1482,96 @@ mod tests {
         }
         assert!(hits > 15_000, "{hits} hits");
         assert!(kept_out > 2_000, "{kept_out} rays kept out");
+    }
+
+    /// An icosahedron of circumradius `r` around `c`: its faces,
+    /// counter-clockwise seen from outside, and their unit outward normals.
+    fn icosahedron(c: Vec3, r: f32) -> (Vec<[Vec3; 3]>, Vec<Vec3>) {
+        let g = (1.0 + 5f32.sqrt()) / 2.0;
+        let v: Vec<Vec3> = [
+            (-1.0, g, 0.0),
+            (1.0, g, 0.0),
+            (-1.0, -g, 0.0),
+            (1.0, -g, 0.0),
+            (0.0, -1.0, g),
+            (0.0, 1.0, g),
+            (0.0, -1.0, -g),
+            (0.0, 1.0, -g),
+            (g, 0.0, -1.0),
+            (g, 0.0, 1.0),
+            (-g, 0.0, -1.0),
+            (-g, 0.0, 1.0),
+        ]
+        .iter()
+        .map(|&(x, y, z)| c + Vec3::new(x, y, z).normalize() * r)
+        .collect();
+        let f = [
+            [0, 11, 5],
+            [0, 5, 1],
+            [0, 1, 7],
+            [0, 7, 10],
+            [0, 10, 11],
+            [1, 5, 9],
+            [5, 11, 4],
+            [11, 10, 2],
+            [10, 7, 6],
+            [7, 1, 8],
+            [3, 9, 4],
+            [3, 4, 2],
+            [3, 2, 6],
+            [3, 6, 8],
+            [3, 8, 9],
+            [4, 9, 5],
+            [2, 4, 11],
+            [6, 2, 10],
+            [8, 6, 7],
+            [9, 8, 1],
+        ];
+        let t: Vec<[Vec3; 3]> = f.iter().map(|k| k.map(|i| v[i])).collect();
+        let n = t
+            .iter()
+            .map(|[a, b, c]| (*b - *a).cross(*c - *a).normalize())
+            .collect();
+        (t, n)
+    }
+
+    /// The convexity check that lets a ray leaving an object skip its
+    /// tree: an icosahedron near the origin and far from it, also with its
+    /// winding turned (a mirrored instance, its front normals kept
+    /// outward), is convex; with a corner pushed in, turned inside out
+    /// (fronts inward), or a box (coplanar faces, within the margin) not.
+    #[test]
+    fn convex_objects_are_told_from_the_others() {
+        for (c, r) in [(Vec3::ZERO, 1.0), (Vec3::splat(1e3), 0.5)] {
+            let (t, n) = icosahedron(c, r);
+            assert!(convex(&t, &n), "{c} {r}");
+            let turned: Vec<[Vec3; 3]> = t.iter().map(|&[a, b, c]| [a, c, b]).collect();
+            assert!(convex(&turned, &n));
+            let inward: Vec<Vec3> = n.iter().map(|&v| -v).collect();
+            assert!(!convex(&t, &inward));
+            // One corner pushed in to 0.3 of its radius, below the plane of
+            // its five neighbours (at 0.45): a dent.
+            let corner = t[0][0];
+            let dented: Vec<[Vec3; 3]> = t
+                .iter()
+                .map(|f| f.map(|v| if v == corner { c + (v - c) * 0.3 } else { v }))
+                .collect();
+            let dented_n: Vec<Vec3> = dented
+                .iter()
+                .map(|[a, b, c]| (*b - *a).cross(*c - *a).normalize())
+                .collect();
+            assert!(!convex(&dented, &dented_n));
+        }
+        let cube = penumbra_scene::primitives::cuboid(Vec3::ZERO, Vec3::ONE);
+        let t: Vec<[Vec3; 3]> = cube
+            .indices
+            .iter()
+            .map(|k| k.map(|i| cube.positions[i as usize]))
+            .collect();
+        let n: Vec<Vec3> = t
+            .iter()
+            .map(|[a, b, c]| (*b - *a).cross(*c - *a).normalize())
+            .collect();
+        assert!(!convex(&t, &n));
     }
 }
