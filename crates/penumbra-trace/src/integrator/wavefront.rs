@@ -412,14 +412,12 @@ impl Tracer {
             .collect();
         objects.sort_by_key(|r| r.len());
         let (mut scanned, mut rest, mut rest_objects) = (Vec::new(), Vec::new(), Vec::new());
-        let mut convex_candidates = Vec::new();
         for r in objects {
             if scanned.len() + r.len() <= scan::MAX_TRIANGLES {
                 scanned.extend(r);
             } else {
                 rest.extend(r.clone());
-                rest_objects.push(r.clone());
-                convex_candidates.push(r);
+                rest_objects.push(r);
             }
         }
         // In scene order: of equal distances the scan keeps the lowest index.
@@ -459,8 +457,8 @@ impl Tracer {
             };
             let shapes = if rest_objects.len() <= MAX_SHAPES {
                 rest_objects
-                    .into_iter()
-                    .map(|mut r| shape(corners(&mut r)))
+                    .iter()
+                    .map(|r| shape(corners(&mut r.clone())))
                     .collect()
             } else {
                 vec![shape(corners(&mut rest.iter().copied()))]
@@ -473,8 +471,8 @@ impl Tracer {
         };
         // (Only objects with a shape of their own: a lane names the shape
         // its ray leaves.)
-        let convex = if convex_candidates.len() <= MAX_SHAPES {
-            convex_candidates
+        let convex = if rest_objects.len() <= MAX_SHAPES {
+            rest_objects
                 .into_iter()
                 .enumerate()
                 .filter(|(_, r)| {
