@@ -121,8 +121,8 @@ const ATTRIBUTES: usize = 32;
 // Material indices are exact in f32.
 const MAX_MATERIALS: usize = 1 << 24;
 
-/// The components a surface hit reads: all but [`SHARED`], read apart
-/// where the scene has such surfaces.
+/// The components a surface hit reads: all but [`SHARED`] and
+/// [`CONVEX`], each read apart where the scene has such surfaces.
 const HIT_READS: [usize; SHARED] = {
     let mut r = [0; SHARED];
     let mut k = 0;
@@ -259,9 +259,6 @@ impl Tables {
 struct Tracer {
     scan: Option<(TriangleScan, Vec<u32>)>,
     bvh: Option<BvhPart>,
-    /// The triangles of the BVH part's convex objects, each object's
-    /// with its shape's index + 1 (the [`CONVEX`] component).
-    convex: Vec<(std::ops::Range<u32>, u32)>,
 }
 
 /// The triangles beyond the scan: their BVH, scene indices, and for each
@@ -280,6 +277,10 @@ struct BvhPart {
     accel: Accel,
     ids: Vec<u32>,
     shapes: Vec<([[f32; 3]; 2], [f32; 4])>,
+    /// The scene triangles of the convex objects among those with a shape
+    /// of their own, each object's with its shape's index + 1 (the
+    /// [`CONVEX`] component).
+    convex: Vec<(std::ops::Range<u32>, u32)>,
 }
 
 /// The most objects of the BVH part tested one by one before the walk.
@@ -396,6 +397,11 @@ fn ball(o: &[F; 3], d: &[F; 3], [cx, cy, cz, r]: &[f32; 4]) -> B {
 }
 
 impl Tracer {
+    /// The BVH part has convex objects ([`CONVEX`]).
+    fn has_convex(&self) -> bool {
+        self.bvh.as_ref().is_some_and(|b| !b.convex.is_empty())
+    }
+
     /// The scene's triangles split by object: objects in increasing order
     /// of size to the scan while they fit, the rest to a BVH. `None` where
     /// a triangle the BVH would hold culls its back faces for camera rays
@@ -455,37 +461,36 @@ impl Tracer {
                 let ball = bounding_ball(p.into_iter(), [lo, hi], pad);
                 ([lo.to_array(), hi.to_array()], ball)
             };
-            let shapes = if rest_objects.len() <= MAX_SHAPES {
-                rest_objects
+            // One shape an object, or one around them all; only objects
+            // with a shape of their own can be named as the one a ray
+            // leaves.
+            let (shapes, convex) = if rest_objects.len() <= MAX_SHAPES {
+                let shapes = rest_objects
                     .iter()
                     .map(|r| shape(corners(&mut r.clone())))
-                    .collect()
+                    .collect();
+                let convex = rest_objects
+                    .into_iter()
+                    .enumerate()
+                    .filter(|(_, r)| {
+                        let ids: Vec<u32> = r.clone().collect();
+                        let n: Vec<Vec3> = ids.iter().map(|&t| normals[t as usize]).collect();
+                        convex(&pick(&ids), &n)
+                    })
+                    .map(|(k, r)| (r, k as u32 + 1))
+                    .collect();
+                (shapes, convex)
             } else {
-                vec![shape(corners(&mut rest.iter().copied()))]
+                (vec![shape(corners(&mut rest.iter().copied()))], Vec::new())
             };
             Some(BvhPart {
                 accel: Accel::build(&pick(&rest), BuildQuality::Medium),
                 ids: rest,
                 shapes,
+                convex,
             })
         };
-        // (Only objects with a shape of their own: a lane names the shape
-        // its ray leaves.)
-        let convex = if rest_objects.len() <= MAX_SHAPES {
-            rest_objects
-                .into_iter()
-                .enumerate()
-                .filter(|(_, r)| {
-                    let ids: Vec<u32> = r.clone().collect();
-                    let n: Vec<Vec3> = ids.iter().map(|&t| normals[t as usize]).collect();
-                    convex(&pick(&ids), &n)
-                })
-                .map(|(k, r)| (r, k as u32 + 1))
-                .collect()
-        } else {
-            Vec::new()
-        };
-        Some(Tracer { scan, bvh, convex })
+        Some(Tracer { scan, bvh })
     }
 
     /// The closest hits of the `live` lanes' rays `o + t d`: scene
@@ -718,7 +723,8 @@ impl WavefrontScene {
             tables.set(PMF_PER_AREA, t as usize, pmf);
         }
         let tracer = Tracer::new(geometry, scene, &normal, &culls)?;
-        for (triangles, shape) in &tracer.convex {
+        let convex = tracer.bvh.as_ref().map_or(&[][..], |b| &b.convex[..]);
+        for (triangles, shape) in convex {
             for t in triangles.clone() {
                 tables.set(CONVEX, t as usize, *shape as f32);
             }
@@ -908,7 +914,7 @@ fn segment<const GENERAL: bool>(
             if !s.shared_bsdfs.is_empty() {
                 s.tables.read(&[SHARED], &tri, g);
             }
-            if !s.tracer.convex.is_empty() {
+            if s.tracer.has_convex() {
                 s.tables.read(&[CONVEX], &tri, g);
             }
         } else {
