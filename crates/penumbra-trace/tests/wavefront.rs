@@ -180,6 +180,34 @@ fn wavefront_metal_image_is_the_scalar_image() {
     assert_same_image(&scene, &settings);
 }
 
+/// More objects beyond the scan than are tested one by one (the four
+/// spheres and two copies of each, above and behind them): the BVH part
+/// is then one tree over them all, walked a ray at a time, instead of
+/// a cluster scan per object.
+#[test]
+fn wavefront_image_with_many_objects_is_the_scalar_image() {
+    if !avx512() {
+        return;
+    }
+    let (mut scene, settings) = metals();
+    let large: Vec<_> = scene
+        .instances
+        .iter()
+        .filter(|i| scene.meshes[i.mesh].indices.len() > 64)
+        .cloned()
+        .collect();
+    assert_eq!(large.len(), 4);
+    for k in 1..=2 {
+        for i in &large {
+            let mut copy = i.clone();
+            copy.transform =
+                glam::Mat4::from_translation(Vec3::new(0.0, 1.2 * k as f32, -1.5)) * i.transform;
+            scene.instances.push(copy);
+        }
+    }
+    assert_same_image(&scene, &settings);
+}
+
 /// The other models, shared code too: a rough dielectric (transmission,
 /// light samples through the surface, η inverted from inside), Phong,
 /// metallic–roughness and a Schlick conductor; and one-sided opaque

@@ -8,6 +8,7 @@
 //! watertight triangle test.
 
 mod block;
+pub(crate) mod cluster_scan;
 mod collapse;
 mod frustum;
 mod huge_pages;

@@ -34,12 +34,12 @@ use obvhs::aabb::Aabb;
 use std::arch::x86_64::*;
 
 /// Triangles per chunk: one 16-lane register.
-const LANES: usize = 16;
+pub(super) const LANES: usize = 16;
 
 /// The largest scene the scan takes.
 pub const MAX_TRIANGLES: usize = 64;
 
-type Lanes = [f32; LANES];
+pub(super) type Lanes = [f32; LANES];
 
 /// Up to [`LANES`] triangles in structure-of-arrays form: corners
 /// (`[corner][axis][lane]`), unit front normals, the triangles' indices
@@ -48,12 +48,41 @@ type Lanes = [f32; LANES];
 /// aligned, so that each array is one aligned load.
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(64))]
-struct Chunk {
+pub(super) struct Chunk {
     corners: [[Lanes; 3]; 3],
     normal: [Lanes; 3],
-    index: [u32; LANES],
+    pub index: [u32; LANES],
     culls: u16,
-    used: u16,
+    pub used: u16,
+}
+
+impl Chunk {
+    /// A chunk of up to [`LANES`] triangles, each with its unit front
+    /// normal, whether it culls back faces and the index hits name it by.
+    pub(super) fn new(triangles: impl Iterator<Item = ([Vec3; 3], Vec3, bool, u32)>) -> Chunk {
+        let mut chunk = Chunk {
+            corners: [[[0.0; LANES]; 3]; 3],
+            normal: [[0.0; LANES]; 3],
+            index: [0; LANES],
+            culls: 0,
+            used: 0,
+        };
+        for (lane, (t, n, culls, index)) in triangles.enumerate() {
+            assert!(lane < LANES, "a chunk holds {LANES} triangles");
+            for (c, p) in t.iter().enumerate() {
+                for a in 0..3 {
+                    chunk.corners[c][a][lane] = p[a];
+                }
+            }
+            for a in 0..3 {
+                chunk.normal[a][lane] = n[a];
+            }
+            chunk.index[lane] = index;
+            chunk.culls |= u16::from(culls) << lane;
+            chunk.used |= 1 << lane;
+        }
+        chunk
+    }
 }
 
 /// The most chunks: one bit each in a ray's mask.
@@ -68,12 +97,12 @@ pub struct TriangleScan {
 
 /// The watertight test's quantities of a chunk's triangles for one ray,
 /// one lane a triangle.
-struct Edges {
-    u: __m512,
-    v: __m512,
-    w: __m512,
-    t_scaled: __m512,
-    det: __m512,
+pub(super) struct Edges {
+    pub u: __m512,
+    pub v: __m512,
+    pub w: __m512,
+    pub t_scaled: __m512,
+    pub det: __m512,
 }
 
 impl TriangleScan {
@@ -94,26 +123,11 @@ impl TriangleScan {
         let mut chunks = Vec::with_capacity(groups.len());
         let mut bounds = Vec::with_capacity(groups.len());
         for group in groups {
-            let mut chunk = Chunk {
-                corners: [[[0.0; LANES]; 3]; 3],
-                normal: [[0.0; LANES]; 3],
-                index: [0; LANES],
-                culls: 0,
-                used: 0,
-            };
-            for (lane, &k) in group.iter().enumerate() {
-                for (c, p) in triangles[k].iter().enumerate() {
-                    for a in 0..3 {
-                        chunk.corners[c][a][lane] = p[a];
-                    }
-                }
-                for a in 0..3 {
-                    chunk.normal[a][lane] = normals[k][a];
-                }
-                chunk.index[lane] = k as u32;
-                chunk.culls |= u16::from(culls[k]) << lane;
-                chunk.used |= 1 << lane;
-            }
+            let chunk = Chunk::new(
+                group
+                    .iter()
+                    .map(|&k| (triangles[k], normals[k], culls[k], k as u32)),
+            );
             chunks.push(chunk);
             let ([lo, hi], _) = padded(group.iter().flat_map(|&k| triangles[k]));
             bounds.push([lo.to_array(), hi.to_array()]);
@@ -161,7 +175,7 @@ impl TriangleScan {
     /// # Safety
     /// The CPU must support AVX-512F.
     #[inline(always)]
-    unsafe fn edges(chunk: &Chunk, ray: &WatertightRay, tmax: f32) -> Edges {
+    pub(super) unsafe fn edges(chunk: &Chunk, ray: &WatertightRay, tmax: f32) -> Edges {
         let [kx, ky, kz] = ray.permutation();
         let [ox, oy, oz] = ray.origin_permuted();
         let [sx, sy, sz] = ray.shear();
@@ -384,7 +398,7 @@ fn padding([lo, hi]: [Vec3; 2]) -> f32 {
 }
 
 /// The bounds of `points`.
-fn bounds(points: impl Iterator<Item = Vec3>) -> [Vec3; 2] {
+pub(super) fn bounds(points: impl Iterator<Item = Vec3>) -> [Vec3; 2] {
     points.fold([Vec3::INFINITY, Vec3::NEG_INFINITY], |[lo, hi], p| {
         [lo.min(p), hi.max(p)]
     })
@@ -529,7 +543,7 @@ unsafe fn sheared(
 /// # Safety
 /// The CPU must support AVX-512F.
 #[inline(always)]
-unsafe fn accepts(e: &Edges, tmax: __m512) -> u16 {
+pub(super) unsafe fn accepts(e: &Edges, tmax: __m512) -> u16 {
     // SAFETY: AVX-512F (the caller's contract).
     unsafe {
         let z = _mm512_setzero_ps();

@@ -31,9 +31,11 @@
 //! Rays meet the scene in two parts ([`Tracer`]): the smallest objects, up
 //! to [`scan::MAX_TRIANGLES`] triangles in all, are tested triangle by
 //! triangle ([`TriangleScan`], sixteen at once: a room's walls, which
-//! most rays hit), and the rest, up to [`MAX_BVH_TRIANGLES`], through a
-//! BVH of their own (a glass sphere's thousands of triangles, whose box
-//! most rays miss).
+//! most rays hit), and the rest, up to [`MAX_BVH_TRIANGLES`], object by
+//! object where there are at most [`MAX_SHAPES`] objects of at most
+//! [`cluster_scan::MAX_TRIANGLES`] each ([`ClusterScan`]: a glass
+//! sphere's thousands of triangles, whose box most rays miss), else
+//! through a BVH of their own.
 //!
 //! One of the crate's modules with `unsafe` code: the AVX-512 entry point,
 //! the attribute reads (register permutes, gathers) and table reads
@@ -44,6 +46,7 @@
 // that vectorises plainly.
 #![allow(clippy::needless_range_loop)]
 
+use crate::accel::cluster_scan::{self, ClusterScan};
 use crate::accel::scan::{self, TriangleScan, padded, reciprocals, slabs};
 use crate::accel::{Accel, BuildQuality, WatertightRay};
 use crate::geometry::SceneGeometry;
@@ -251,21 +254,18 @@ impl Tables {
 
 /// Where rays meet the scene: the scan of the smallest objects, with the
 /// scene indices of its triangles (none for a scan of every triangle, in
-/// scene order), and a BVH of the rest, with their scene indices and
-/// their bounds padded (a slab test of sixteen lanes keeps the rays that
-/// miss them out of the BVH, and one of a ball around them those that
-/// pass the box's corners).
+/// scene order), and the rest ([`BvhPart`]).
 #[derive(Debug)]
 struct Tracer {
     scan: Option<(TriangleScan, Vec<u32>)>,
     bvh: Option<BvhPart>,
 }
 
-/// The triangles beyond the scan: their BVH, scene indices, and for each
-/// of their objects (one shape around them all where there are more than
-/// [`MAX_SHAPES`]) its padded bounds and a padded ball around it (`[cx,
-/// cy, cz, r]`). A ray enters the BVH only where it passes both tests of
-/// some object, sixteen lanes at a time: the ball keeps out the rays
+/// The triangles beyond the scan: their search ([`PartSearch`]), and for
+/// each of their objects (one shape around them all where there are more
+/// than [`MAX_SHAPES`]) its padded bounds and a padded ball around it
+/// (`[cx, cy, cz, r]`). A ray searches an object (or the BVH) only where
+/// it passes both its tests, sixteen lanes at a time: the ball keeps out the rays
 /// that pass a round object's box but miss the object, about half of a
 /// sphere's box's, and objects apart keep out those that pass between
 /// them (spheres side by side over a floor). A ray that leaves a convex
@@ -274,8 +274,7 @@ struct Tracer {
 /// one; [`convex`]).
 #[derive(Debug)]
 struct BvhPart {
-    accel: Accel,
-    ids: Vec<u32>,
+    search: PartSearch,
     shapes: Vec<([[f32; 3]; 2], [f32; 4])>,
     /// The scene triangles of the convex objects among those with a shape
     /// of their own, each object's with its shape's index + 1 (the
@@ -286,22 +285,43 @@ struct BvhPart {
 /// The most objects of the BVH part tested one by one before the walk.
 const MAX_SHAPES: usize = 8;
 
+/// How the BVH part's triangles are searched for a ray that passes an
+/// object's tests.
+#[derive(Debug)]
+enum PartSearch {
+    /// A BVH over them all, and the scene index of each of its triangles.
+    Tree(Accel, Vec<u32>),
+    /// A cluster scan per object, in the order of the shapes (objects of
+    /// at most [`cluster_scan::MAX_TRIANGLES`] each, which its fixed
+    /// tree of 16-wide tests searches faster than the BVH walks).
+    Objects(Vec<ClusterScan>),
+}
+
 impl BvhPart {
-    /// The lanes whose ray `o + t d` (t in (0, `tmax`), 1/d = `inv`)
-    /// passes some object's box and ball, other than the object `leaves`
-    /// names (its shape's index + 1; 0 for none): a convex object the ray
-    /// leaves from its outer side, which it cannot meet again.
+    /// For each lane's ray `o + t d` (t in (0, `tmax`), 1/d = `inv`), the
+    /// objects whose box and ball it passes (bit k for shape k), other
+    /// than the object `leaves` names (its shape's index + 1; 0 for none):
+    /// a convex object the ray leaves from its outer side, which it cannot
+    /// meet again.
     #[inline(always)]
-    fn passed(&self, o: &[F; 3], d: &[F; 3], inv: &[F; 3], tmax: &F, leaves: &[u32; LANES]) -> B {
-        let mut any = [false; LANES];
+    fn passed(
+        &self,
+        o: &[F; 3],
+        d: &[F; 3],
+        inv: &[F; 3],
+        tmax: &F,
+        leaves: &[u32; LANES],
+    ) -> [u8; LANES] {
+        let mut shapes = [0u8; LANES];
         for (k, (bounds, b)) in self.shapes.iter().enumerate() {
             let maybe = slabs(o, inv, tmax, bounds);
             let near = ball(o, d, b);
             for i in 0..LANES {
-                any[i] |= maybe[i] & near[i] & (leaves[i] != k as u32 + 1);
+                let pass = maybe[i] & near[i] & (leaves[i] != k as u32 + 1);
+                shapes[i] |= u8::from(pass) << k;
             }
         }
-        any
+        shapes
     }
 }
 
@@ -464,28 +484,45 @@ impl Tracer {
             // One shape an object, or one around them all; only objects
             // with a shape of their own can be named as the one a ray
             // leaves.
-            let (shapes, convex) = if rest_objects.len() <= MAX_SHAPES {
+            let by_object = rest_objects.len() <= MAX_SHAPES;
+            let (shapes, convex) = if by_object {
                 let shapes = rest_objects
                     .iter()
                     .map(|r| shape(corners(&mut r.clone())))
                     .collect();
                 let convex = rest_objects
-                    .into_iter()
+                    .iter()
                     .enumerate()
                     .filter(|(_, r)| {
-                        let ids: Vec<u32> = r.clone().collect();
+                        let ids: Vec<u32> = (*r).clone().collect();
                         let n: Vec<Vec3> = ids.iter().map(|&t| normals[t as usize]).collect();
                         convex(&pick(&ids), &n)
                     })
-                    .map(|(k, r)| (r, k as u32 + 1))
+                    .map(|(k, r)| (r.clone(), k as u32 + 1))
                     .collect();
                 (shapes, convex)
             } else {
                 (vec![shape(corners(&mut rest.iter().copied()))], Vec::new())
             };
+            let search = if by_object
+                && rest_objects
+                    .iter()
+                    .all(|r| r.len() <= cluster_scan::MAX_TRIANGLES)
+            {
+                PartSearch::Objects(
+                    rest_objects
+                        .iter()
+                        .map(|r| {
+                            let ids: Vec<u32> = r.clone().collect();
+                            ClusterScan::new(&pick(&ids), &ids)
+                        })
+                        .collect(),
+                )
+            } else {
+                PartSearch::Tree(Accel::build(&pick(&rest), BuildQuality::Medium), rest)
+            };
             Some(BvhPart {
-                accel: Accel::build(&pick(&rest), BuildQuality::Medium),
-                ids: rest,
+                search,
                 shapes,
                 convex,
             })
@@ -541,16 +578,37 @@ impl Tracer {
                 }
             }
         }
-        if let Some(part @ BvhPart { accel, ids, .. }) = &self.bvh {
+        if let Some(part) = &self.bvh {
             let passed = part.passed(o, d, &inv, &tmax, leaves);
             for i in 0..LANES {
-                if !(live[i] & passed[i]) {
+                if !live[i] || passed[i] == 0 {
                     continue;
                 }
-                if let Some(h) = accel.intersect(&Ray::segment(lane(o, i), lane(d, i), tmax[i])) {
-                    // SAFETY: the BVH's indices are below `ids.len()`.
-                    tri[i] = unsafe { at(ids, h.triangle as usize) };
-                    [bary[0][i], bary[1][i]] = [h.b1, h.b2];
+                let hit = match &part.search {
+                    PartSearch::Tree(accel, ids) => accel
+                        .intersect(&Ray::segment(lane(o, i), lane(d, i), tmax[i]))
+                        // SAFETY: the BVH's indices are below `ids.len()`.
+                        .map(|h| (unsafe { at(ids, h.triangle as usize) }, h.b1, h.b2)),
+                    PartSearch::Objects(scans) => {
+                        let ray = WatertightRay::new(lane(o, i), lane(d, i));
+                        let (oi, inv_i) = (lane(o, i), lane(&inv, i));
+                        let (mut hit, mut todo) = (None, passed[i]);
+                        while todo != 0 {
+                            let scan = &scans[todo.trailing_zeros() as usize];
+                            todo &= todo - 1;
+                            // SAFETY: AVX-512F (the caller's contract).
+                            let h = unsafe { scan.closest_avx512(&ray, oi, inv_i, tmax[i]) };
+                            if let Some((id, h)) = h {
+                                tmax[i] = h.t;
+                                hit = Some((id, h.b1, h.b2));
+                            }
+                        }
+                        hit
+                    }
+                };
+                if let Some((id, b1, b2)) = hit {
+                    tri[i] = id;
+                    [bary[0][i], bary[1][i]] = [b1, b2];
                     found[i] = true;
                 }
             }
@@ -587,12 +645,31 @@ impl Tracer {
                 shadow[i] = !unsafe { scan.occluded_avx512(&ray, tmax[i], chunks[i]) };
             }
         }
-        if let Some(part @ BvhPart { accel, .. }) = &self.bvh {
+        if let Some(part) = &self.bvh {
             let passed = part.passed(o, d, &inv, tmax, leaves);
             for i in 0..LANES {
-                if shadow[i] & passed[i] {
-                    shadow[i] = !accel.occluded(&Ray::segment(lane(o, i), lane(d, i), tmax[i]));
+                if !shadow[i] || passed[i] == 0 {
+                    continue;
                 }
+                shadow[i] = !match &part.search {
+                    PartSearch::Tree(accel, _) => {
+                        accel.occluded(&Ray::segment(lane(o, i), lane(d, i), tmax[i]))
+                    }
+                    PartSearch::Objects(scans) => {
+                        let ray = WatertightRay::new(lane(o, i), lane(d, i));
+                        let (oi, inv_i) = (lane(o, i), lane(&inv, i));
+                        // (A loop, not a closure: the intrinsics would
+                        // not be inlined into one.)
+                        let (mut blocked, mut todo) = (false, passed[i]);
+                        while todo != 0 && !blocked {
+                            let scan = &scans[todo.trailing_zeros() as usize];
+                            todo &= todo - 1;
+                            // SAFETY: AVX-512F (the caller's contract).
+                            blocked = unsafe { scan.occluded_avx512(&ray, oi, inv_i, tmax[i]) };
+                        }
+                        blocked
+                    }
+                };
             }
         }
     }
