@@ -552,18 +552,21 @@ impl Tracer {
         let mut tmax = [f32::INFINITY; LANES];
         let mut found = [false; LANES];
         let inv = reciprocals(d);
+        // Each lane's ray as the triangle tests see it, for both parts.
+        let rays: [WatertightRay; LANES] =
+            std::array::from_fn(|i| WatertightRay::new(lane(o, i), lane(d, i)));
         if let Some((scan, ids)) = &self.scan {
             let chunks = scan.chunks_passed(o, &inv, &tmax);
             for i in 0..LANES {
                 if !live[i] || chunks[i] == 0 {
                     continue;
                 }
-                let ray = WatertightRay::new(lane(o, i), lane(d, i));
+                let ray = &rays[i];
                 // SAFETY: AVX-512F (the caller's contract); the scan's
                 // indices are below `ids.len()`.
                 unsafe {
                     if let Some((k, h)) =
-                        scan.closest_avx512(&ray, lane(d, i), tmax[i], camera[i], chunks[i])
+                        scan.closest_avx512(ray, lane(d, i), tmax[i], camera[i], chunks[i])
                     {
                         tmax[i] = h.t;
                         // (No map where the scan holds every triangle.)
@@ -590,14 +593,14 @@ impl Tracer {
                         // SAFETY: the BVH's indices are below `ids.len()`.
                         .map(|h| (unsafe { at(ids, h.triangle as usize) }, h.b1, h.b2)),
                     PartSearch::Objects(scans) => {
-                        let ray = WatertightRay::new(lane(o, i), lane(d, i));
+                        let ray = &rays[i];
                         let (oi, inv_i) = (lane(o, i), lane(&inv, i));
                         let (mut hit, mut todo) = (None, passed[i]);
                         while todo != 0 {
                             let scan = &scans[todo.trailing_zeros() as usize];
                             todo &= todo - 1;
                             // SAFETY: AVX-512F (the caller's contract).
-                            let h = unsafe { scan.closest_avx512(&ray, oi, inv_i, tmax[i]) };
+                            let h = unsafe { scan.closest_avx512(ray, oi, inv_i, tmax[i]) };
                             if let Some((id, h)) = h {
                                 tmax[i] = h.t;
                                 hit = Some((id, h.b1, h.b2));
@@ -656,7 +659,7 @@ impl Tracer {
                         accel.occluded(&Ray::segment(lane(o, i), lane(d, i), tmax[i]))
                     }
                     PartSearch::Objects(scans) => {
-                        let ray = WatertightRay::new(lane(o, i), lane(d, i));
+                        let ray = &WatertightRay::new(lane(o, i), lane(d, i));
                         let (oi, inv_i) = (lane(o, i), lane(&inv, i));
                         // (A loop, not a closure: the intrinsics would
                         // not be inlined into one.)
@@ -665,7 +668,7 @@ impl Tracer {
                             let scan = &scans[todo.trailing_zeros() as usize];
                             todo &= todo - 1;
                             // SAFETY: AVX-512F (the caller's contract).
-                            blocked = unsafe { scan.occluded_avx512(&ray, oi, inv_i, tmax[i]) };
+                            blocked = unsafe { scan.occluded_avx512(ray, oi, inv_i, tmax[i]) };
                         }
                         blocked
                     }
