@@ -61,13 +61,16 @@ impl Boxes {
     }
 }
 
-/// An object's triangles as clusters of chunks: `tops[r]` bounds clusters
-/// 16r to 16r + 15, `clusters[c]` the chunks of cluster c, which are
-/// `chunks[16c..16c + 16]` (unused ones hold no triangle).
+/// An object's triangles as clusters of chunks, clusters in groups of
+/// sixteen: `tops[r]` bounds the clusters of group r, which begin at
+/// `first_cluster[r]`; `clusters[c]` bounds the chunks of cluster c,
+/// which begin at `first_chunk[c]`.
 #[derive(Clone, Debug)]
 pub struct ClusterScan {
     tops: Vec<Boxes>,
+    first_cluster: Vec<usize>,
     clusters: Vec<Boxes>,
+    first_chunk: Vec<usize>,
     chunks: Vec<Chunk>,
 }
 
@@ -113,34 +116,38 @@ impl ClusterScan {
             .map(|[a, b, c]| (*a + *b + *c) / 3.0)
             .collect();
         let corners = |ks: &[usize]| bounds(ks.iter().flat_map(|&k| triangles[k]));
-        let mut clusters = Vec::new();
+        let mut scan = ClusterScan {
+            tops: Vec::new(),
+            first_cluster: Vec::new(),
+            clusters: Vec::new(),
+            first_chunk: Vec::new(),
+            chunks: Vec::new(),
+        };
+        let mut groups = Vec::new();
         split(
             (0..triangles.len()).collect(),
             &centroids,
-            LANES * LANES,
-            &mut clusters,
+            LANES * LANES * LANES,
+            &mut groups,
         );
-        let (mut cluster_boxes, mut chunks) = (Vec::new(), Vec::new());
-        for cluster in &clusters {
-            let mut groups = Vec::new();
-            split(cluster.clone(), &centroids, LANES, &mut groups);
-            cluster_boxes.push(Boxes::new(groups.iter().map(|g| corners(g))));
-            chunks.extend(
-                groups.iter().map(|g| {
-                    Chunk::new(g.iter().map(|&k| (triangles[k], Vec3::ZERO, false, ids[k])))
-                }),
-            );
-            chunks.extend((groups.len()..LANES).map(|_| Chunk::new(std::iter::empty())));
+        for group in groups {
+            let mut clusters = Vec::new();
+            split(group, &centroids, LANES * LANES, &mut clusters);
+            scan.tops
+                .push(Boxes::new(clusters.iter().map(|c| corners(c))));
+            scan.first_cluster.push(scan.clusters.len());
+            for cluster in clusters {
+                let mut chunks = Vec::new();
+                split(cluster, &centroids, LANES, &mut chunks);
+                scan.clusters
+                    .push(Boxes::new(chunks.iter().map(|c| corners(c))));
+                scan.first_chunk.push(scan.chunks.len());
+                scan.chunks.extend(chunks.iter().map(|c| {
+                    Chunk::new(c.iter().map(|&k| (triangles[k], Vec3::ZERO, false, ids[k])))
+                }));
+            }
         }
-        let tops = clusters
-            .chunks(LANES)
-            .map(|cs| Boxes::new(cs.iter().map(|c| corners(c))))
-            .collect();
-        ClusterScan {
-            tops,
-            clusters: cluster_boxes,
-            chunks,
-        }
+        scan
     }
 
     /// The closest hit of `ray` (from `o`, with 1 / direction `inv`) in
@@ -163,13 +170,22 @@ impl ClusterScan {
             let (o, inv) = (splat(o), splat(inv));
             let mut best: Option<(u32, TriangleHit)> = None;
             let mut best_t = tmax;
+            // The groups of clusters (at most two), the nearer first.
+            let mut groups = [(0u16, _mm512_setzero_ps()); 2];
             for (r, top) in self.tops.iter().enumerate() {
-                let (mut clusters, enter) = entered(top, &o, &inv, best_t);
+                groups[r] = entered(top, &o, &inv, best_t);
+            }
+            let swap = self.tops.len() == 2
+                && _mm512_mask_reduce_min_ps(groups[1].0, groups[1].1)
+                    < _mm512_mask_reduce_min_ps(groups[0].0, groups[0].1);
+            for r in 0..self.tops.len() {
+                let r = if swap { 1 - r } else { r };
+                let (mut clusters, enter) = groups[r];
                 while let Some(j) = nearest(&mut clusters, enter, best_t) {
-                    let c = LANES * r + j;
+                    let c = self.first_cluster[r] + j;
                     let (mut chunks, enter) = entered(&self.clusters[c], &o, &inv, best_t);
                     while let Some(k) = nearest(&mut chunks, enter, best_t) {
-                        let chunk = &self.chunks[LANES * c + k];
+                        let chunk = &self.chunks[self.first_chunk[c] + k];
                         if let Some(hit) = chunk_closest(chunk, ray, best_t) {
                             best_t = hit.1.t;
                             best = Some(hit);
@@ -201,11 +217,12 @@ impl ClusterScan {
             for (r, top) in self.tops.iter().enumerate() {
                 let mut clusters = entered(top, &o, &inv, tmax).0;
                 while clusters != 0 {
-                    let c = LANES * r + clusters.trailing_zeros() as usize;
+                    let c = self.first_cluster[r] + clusters.trailing_zeros() as usize;
                     clusters &= clusters - 1;
                     let mut chunks = entered(&self.clusters[c], &o, &inv, tmax).0;
                     while chunks != 0 {
-                        let chunk = &self.chunks[LANES * c + chunks.trailing_zeros() as usize];
+                        let chunk =
+                            &self.chunks[self.first_chunk[c] + chunks.trailing_zeros() as usize];
                         chunks &= chunks - 1;
                         let e = TriangleScan::edges(chunk, ray, tmax);
                         if chunk.used & accepts(&e, vtmax) != 0 {
@@ -435,6 +452,7 @@ mod tests {
             let ids: Vec<u32> = (0..tris.len() as u32).map(|k| 7 * k + 3).collect();
             let scan = ClusterScan::new(&tris, &ids);
             assert_eq!(scan.tops.len(), tris.len().div_ceil(LANES * LANES * LANES));
+            assert_eq!(scan.chunks.len(), tris.len().div_ceil(LANES));
             let mut hits = 0;
             for n in 0..4_000 {
                 let (o, target) = match n % 4 {

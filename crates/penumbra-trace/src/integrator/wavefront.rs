@@ -553,8 +553,11 @@ impl Tracer {
         let mut found = [false; LANES];
         let inv = reciprocals(d);
         // Each lane's ray as the triangle tests see it, for both parts.
-        let rays: [WatertightRay; LANES] =
-            std::array::from_fn(|i| WatertightRay::new(lane(o, i), lane(d, i)));
+        // (A loop: `array::from_fn` was not inlined.)
+        let mut rays = [WatertightRay::new(Vec3::ZERO, Vec3::Z); LANES];
+        for (i, ray) in rays.iter_mut().enumerate() {
+            *ray = WatertightRay::new(lane(o, i), lane(d, i));
+        }
         if let Some((scan, ids)) = &self.scan {
             let chunks = scan.chunks_passed(o, &inv, &tmax);
             for i in 0..LANES {
