@@ -282,7 +282,7 @@ struct BvhPart {
     convex: Vec<(std::ops::Range<u32>, u32)>,
 }
 
-/// The most objects of the BVH part tested one by one before the walk.
+/// The most objects of the BVH part tested (and searched) one by one.
 const MAX_SHAPES: usize = 8;
 
 /// How the BVH part's triangles are searched for a ray that passes an
@@ -485,37 +485,48 @@ impl Tracer {
             // with a shape of their own can be named as the one a ray
             // leaves.
             let by_object = rest_objects.len() <= MAX_SHAPES;
-            let (shapes, convex) = if by_object {
-                let shapes = rest_objects
+            // Each object's scene triangles, their corners and normals
+            // (where the objects are taken one by one).
+            let objects: Vec<_> = if by_object {
+                rest_objects
                     .iter()
-                    .map(|r| shape(corners(&mut r.clone())))
+                    .map(|r| {
+                        let ids: Vec<u32> = r.clone().collect();
+                        let (t, n) = (
+                            pick(&ids),
+                            ids.iter().map(|&t| normals[t as usize]).collect::<Vec<_>>(),
+                        );
+                        (ids, t, n)
+                    })
+                    .collect()
+            } else {
+                Vec::new()
+            };
+            let (shapes, convex) = if by_object {
+                let shapes = objects
+                    .iter()
+                    .map(|(_, t, _)| shape(t.iter().flatten().copied().collect()))
                     .collect();
                 let convex = rest_objects
                     .iter()
+                    .zip(&objects)
                     .enumerate()
-                    .filter(|(_, r)| {
-                        let ids: Vec<u32> = (*r).clone().collect();
-                        let n: Vec<Vec3> = ids.iter().map(|&t| normals[t as usize]).collect();
-                        convex(&pick(&ids), &n)
-                    })
-                    .map(|(k, r)| (r.clone(), k as u32 + 1))
+                    .filter(|(_, (_, (_, t, n)))| convex(t, n))
+                    .map(|(k, (r, _))| (r.clone(), k as u32 + 1))
                     .collect();
                 (shapes, convex)
             } else {
                 (vec![shape(corners(&mut rest.iter().copied()))], Vec::new())
             };
             let search = if by_object
-                && rest_objects
+                && objects
                     .iter()
-                    .all(|r| r.len() <= cluster_scan::MAX_TRIANGLES)
+                    .all(|(ids, _, _)| ids.len() <= cluster_scan::MAX_TRIANGLES)
             {
                 PartSearch::Objects(
-                    rest_objects
+                    objects
                         .iter()
-                        .map(|r| {
-                            let ids: Vec<u32> = r.clone().collect();
-                            ClusterScan::new(&pick(&ids), &ids)
-                        })
+                        .map(|(ids, t, _)| ClusterScan::new(t, ids))
                         .collect(),
                 )
             } else {
