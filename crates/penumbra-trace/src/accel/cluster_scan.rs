@@ -1,8 +1,9 @@
 //! One object's triangles for one ray at a time, sixteen boxes or
 //! sixteen triangles per AVX-512 instruction, in a tree of fixed shape:
 //! clusters of up to sixteen chunks of up to sixteen triangles (the
-//! scan's chunks, `scan.rs`), each with its padded bounds. A ray tests
-//! sixteen clusters' bounds at once, enters the clusters it passes
+//! scan's chunks, `scan.rs`), each with its padded bounds, clusters in
+//! one or two groups of sixteen. A ray tests a group's sixteen clusters'
+//! bounds at once (the nearer group first), enters the clusters it passes
 //! nearest first, tests their sixteen chunks' bounds at once, and the
 //! chunks it passes nearest first, until the next box begins beyond the
 //! closest hit so far. For objects of a few thousand triangles (the
@@ -10,7 +11,8 @@
 //! 8-wide BVH's walk spends more in its steps than in its tests.
 //!
 //! The triangles are split at the median of their centroids along the
-//! widest axis, in counts that fill whole chunks (and whole clusters).
+//! widest axis, in counts that fill whole chunks (and whole clusters and
+//! groups).
 //!
 //! The triangle test is the scan's: the operations of
 //! `WatertightRay::intersect_a` in its order, sixteen lanes at once, with
@@ -26,7 +28,7 @@ use super::watertight::{TriangleHit, WatertightRay};
 use glam::Vec3;
 use std::arch::x86_64::*;
 
-/// Triangles of the largest object taken: two rounds of cluster bounds
+/// Triangles of the largest object taken: two groups of sixteen clusters
 /// (beyond that a BVH's walk is the better search).
 pub const MAX_TRIANGLES: usize = 2 * LANES * LANES * LANES;
 
@@ -41,7 +43,7 @@ struct Boxes {
 }
 
 impl Boxes {
-    /// The padded bounds of each group of points.
+    /// Up to sixteen bounds, each padded ([`padded`]).
     fn new(groups: impl Iterator<Item = [Vec3; 2]>) -> Boxes {
         let mut b = Boxes {
             lo: [[0.0; LANES]; 3],
