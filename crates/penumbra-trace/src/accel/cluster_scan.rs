@@ -77,6 +77,14 @@ pub struct ClusterScan {
     chunks: Vec<Chunk>,
 }
 
+/// The bounds of nothing: the identity of [`union`].
+const EMPTY: [Vec3; 2] = [Vec3::INFINITY, Vec3::NEG_INFINITY];
+
+/// The bounds of two bounds.
+fn union([a, b]: [Vec3; 2], [c, d]: [Vec3; 2]) -> [Vec3; 2] {
+    [a.min(c), b.max(d)]
+}
+
 /// `items` split into groups of at most `size` (all full but the last),
 /// recursively in two: along the axis and at the multiple of `size`, in
 /// the order of their centroids, where the two parts' bounds (of the
@@ -97,8 +105,6 @@ fn split(
         let e = hi - lo;
         e.x * e.y + e.y * e.z + e.z * e.x
     };
-    let union = |[a, b]: [Vec3; 2], [c, d]: [Vec3; 2]| [a.min(c), b.max(d)];
-    let empty = [Vec3::INFINITY, Vec3::NEG_INFINITY];
     let order = |items: &mut Vec<usize>, axis: usize| {
         items.sort_by(|&a, &b| {
             centroids[a][axis]
@@ -110,11 +116,11 @@ fn split(
     let mut best = (f32::INFINITY, 0, size);
     for axis in 0..3 {
         order(&mut items, axis);
-        let mut suffix = vec![empty; n + 1];
+        let mut suffix = vec![EMPTY; n + 1];
         for i in (0..n).rev() {
             suffix[i] = union(suffix[i + 1], boxes[items[i]]);
         }
-        let mut prefix = empty;
+        let mut prefix = EMPTY;
         for (i, &k) in items.iter().enumerate() {
             prefix = union(prefix, boxes[k]);
             let left = i + 1;
@@ -151,7 +157,8 @@ impl ClusterScan {
             .iter()
             .map(|t| bounds(t.iter().copied()))
             .collect();
-        let corners = |ks: &[usize]| bounds(ks.iter().flat_map(|&k| triangles[k]));
+        // A group's bounds: its triangles' bounds together.
+        let corners = |ks: &[usize]| ks.iter().fold(EMPTY, |b, &k| union(b, boxes[k]));
         let mut scan = ClusterScan {
             tops: Vec::new(),
             first_cluster: Vec::new(),
