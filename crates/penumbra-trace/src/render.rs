@@ -101,6 +101,10 @@ pub struct RenderOptions<'a> {
     /// comparisons; the environment variable `PENUMBRA_SCALAR_PATHS=1`
     /// does the same.
     pub scalar_paths: bool,
+    /// Run the wavefront integrator's sixteen lanes in two AVX2
+    /// registers even where the CPU has AVX-512, for comparisons and
+    /// tests.
+    pub avx2_paths: bool,
 }
 
 impl std::fmt::Debug for RenderOptions<'_> {
@@ -113,6 +117,7 @@ impl std::fmt::Debug for RenderOptions<'_> {
             .field("resume", &self.resume.as_ref().map(|r| r.next))
             .field("target_rel_mse", &self.target_rel_mse)
             .field("scalar_paths", &self.scalar_paths)
+            .field("avx2_paths", &self.avx2_paths)
             .finish()
     }
 }
@@ -213,7 +218,7 @@ pub fn render(
     let scalar_paths = options.scalar_paths
         || std::env::var_os("PENUMBRA_SCALAR_PATHS").is_some_and(|v| !v.is_empty() && v != "0");
     let wavefront = (!options.aovs && !scalar_paths)
-        .then(|| WavefrontScene::new(scene, &geometry, &lights, settings))
+        .then(|| WavefrontScene::new(scene, &geometry, &lights, settings, options.avx2_paths))
         .flatten();
     let crop = options.crop.clone().unwrap_or(Crop { x: 0..w, y: 0..h });
     assert!(crop.x.end <= w && crop.y.end <= h, "crop outside the image");

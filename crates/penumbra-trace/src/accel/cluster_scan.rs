@@ -1,7 +1,8 @@
 //! One object's triangles for one ray at a time, sixteen boxes or
-//! sixteen triangles per AVX-512 instruction, in a tree of fixed shape:
-//! clusters of up to sixteen chunks of up to sixteen triangles (the
-//! scan's chunks, `scan.rs`), each with its padded bounds, clusters in
+//! sixteen triangles per AVX-512 instruction (or two AVX2 ones), in a
+//! tree of fixed shape: clusters of up to sixteen chunks of up to sixteen
+//! triangles (the scan's chunks, `scan.rs`), each with its padded bounds,
+//! clusters in
 //! one or two groups of sixteen. A ray tests a group's sixteen clusters'
 //! bounds at once (the nearer group first), enters the clusters it passes
 //! nearest first, tests their sixteen chunks' bounds at once, and the
@@ -21,13 +22,14 @@
 //! the scalar test's to the bit. Of equal distances the hit found first
 //! wins (the one of the nearer box, then the lowest triangle index).
 //!
-//! One of the crate's modules with `unsafe` code: its AVX-512 intrinsics.
+//! One of the crate's modules with `unsafe` code: its calls of the
+//! sixteen-lane operations (`lanes16.rs`), which need the CPU's features.
 #![allow(unsafe_code)]
 
+use super::lanes16::Simd16;
 use super::scan::{Chunk, LANES, Lanes, TriangleScan, accepts, bounds, padded};
 use super::watertight::{TriangleHit, WatertightRay};
 use glam::Vec3;
-use std::arch::x86_64::*;
 
 /// Triangles of the largest object taken: two groups of sixteen clusters
 /// (beyond that a BVH's walk is the better search).
@@ -198,39 +200,39 @@ impl ClusterScan {
     /// (0, `tmax`): the triangle's id and the hit.
     ///
     /// # Safety
-    /// The CPU must support AVX-512F.
+    /// The CPU must support `S`.
     #[inline(always)]
-    pub unsafe fn closest_avx512(
+    pub unsafe fn closest<S: Simd16>(
         &self,
         ray: &WatertightRay,
         o: Vec3,
         inv: Vec3,
         tmax: f32,
     ) -> Option<(u32, TriangleHit)> {
-        // SAFETY: AVX-512F (the caller's contract); the loads read the
-        // boxes' and chunks' 16-lane arrays, and clusters and chunks are
-        // indexed by lanes of boxes in use.
+        // SAFETY: `S`'s features (the caller's contract); the loads read
+        // the boxes' and chunks' aligned 16-lane arrays, and clusters and
+        // chunks are indexed by lanes of boxes in use.
         unsafe {
-            let (o, inv) = (splat(o), splat(inv));
+            let (o, inv) = (splat::<S>(o), splat::<S>(inv));
             let mut best: Option<(u32, TriangleHit)> = None;
             let mut best_t = tmax;
             // The groups of clusters (at most two), the nearer first.
-            let mut groups = [(0u16, _mm512_setzero_ps()); 2];
+            let mut groups = [(0u16, S::splat(0.0)); 2];
             for (r, top) in self.tops.iter().enumerate() {
-                groups[r] = entered(top, &o, &inv, best_t);
+                groups[r] = entered::<S>(top, &o, &inv, best_t);
             }
             let swap = self.tops.len() == 2
-                && _mm512_mask_reduce_min_ps(groups[1].0, groups[1].1)
-                    < _mm512_mask_reduce_min_ps(groups[0].0, groups[0].1);
+                && S::reduce_min(groups[1].0, groups[1].1)
+                    < S::reduce_min(groups[0].0, groups[0].1);
             for r in 0..self.tops.len() {
                 let r = if swap { 1 - r } else { r };
                 let (mut clusters, enter) = groups[r];
-                while let Some(j) = nearest(&mut clusters, enter, best_t) {
+                while let Some(j) = nearest::<S>(&mut clusters, enter, best_t) {
                     let c = self.first_cluster[r] + j;
-                    let (mut chunks, enter) = entered(&self.clusters[c], &o, &inv, best_t);
-                    while let Some(k) = nearest(&mut chunks, enter, best_t) {
+                    let (mut chunks, enter) = entered::<S>(&self.clusters[c], &o, &inv, best_t);
+                    while let Some(k) = nearest::<S>(&mut chunks, enter, best_t) {
                         let chunk = &self.chunks[self.first_chunk[c] + k];
-                        if let Some(hit) = chunk_closest(chunk, ray, best_t) {
+                        if let Some(hit) = chunk_closest::<S>(chunk, ray, best_t) {
                             best_t = hit.1.t;
                             best = Some(hit);
                         }
@@ -245,31 +247,31 @@ impl ClusterScan {
     /// in (0, `tmax`): boxes in lane order, stopping at the first hit.
     ///
     /// # Safety
-    /// The CPU must support AVX-512F.
+    /// The CPU must support `S`.
     #[inline(always)]
-    pub unsafe fn occluded_avx512(
+    pub unsafe fn occluded<S: Simd16>(
         &self,
         ray: &WatertightRay,
         o: Vec3,
         inv: Vec3,
         tmax: f32,
     ) -> bool {
-        // SAFETY: as in `closest_avx512`.
+        // SAFETY: as in `closest`.
         unsafe {
-            let (o, inv) = (splat(o), splat(inv));
-            let vtmax = _mm512_set1_ps(tmax);
+            let (o, inv) = (splat::<S>(o), splat::<S>(inv));
+            let vtmax = S::splat(tmax);
             for (r, top) in self.tops.iter().enumerate() {
-                let mut clusters = entered(top, &o, &inv, tmax).0;
+                let mut clusters = entered::<S>(top, &o, &inv, tmax).0;
                 while clusters != 0 {
                     let c = self.first_cluster[r] + clusters.trailing_zeros() as usize;
                     clusters &= clusters - 1;
-                    let mut chunks = entered(&self.clusters[c], &o, &inv, tmax).0;
+                    let mut chunks = entered::<S>(&self.clusters[c], &o, &inv, tmax).0;
                     while chunks != 0 {
                         let chunk =
                             &self.chunks[self.first_chunk[c] + chunks.trailing_zeros() as usize];
                         chunks &= chunks - 1;
-                        let e = TriangleScan::edges(chunk, ray, tmax);
-                        if chunk.used & accepts(&e, vtmax) != 0 {
+                        let e = TriangleScan::edges::<S>(chunk, ray, tmax);
+                        if chunk.used & accepts::<S>(&e, vtmax) != 0 {
                             return true;
                         }
                     }
@@ -281,20 +283,14 @@ impl ClusterScan {
 }
 
 /// `v` in three 16-lane registers. (A function, not a closure, so that
-/// its intrinsics are inlined into the AVX-512 caller.)
+/// its intrinsics are inlined into the caller compiled for `S`.)
 ///
 /// # Safety
-/// The CPU must support AVX-512F.
+/// The CPU must support `S`.
 #[inline(always)]
-unsafe fn splat(v: Vec3) -> [__m512; 3] {
-    // SAFETY: AVX-512F (the caller's contract).
-    unsafe {
-        [
-            _mm512_set1_ps(v.x),
-            _mm512_set1_ps(v.y),
-            _mm512_set1_ps(v.z),
-        ]
-    }
+unsafe fn splat<S: Simd16>(v: Vec3) -> [S::V; 3] {
+    // SAFETY: `S`'s features (the caller's contract).
+    unsafe { [S::splat(v.x), S::splat(v.y), S::splat(v.z)] }
 }
 
 /// The boxes of `b` that the ray from `o` (1 / direction `inv`) may meet
@@ -305,29 +301,21 @@ unsafe fn splat(v: Vec3) -> [__m512; 3] {
 /// triangle inside; the box is then missed.)
 ///
 /// # Safety
-/// The CPU must support AVX-512F.
+/// The CPU must support `S`.
 #[inline(always)]
-unsafe fn entered(b: &Boxes, o: &[__m512; 3], inv: &[__m512; 3], tmax: f32) -> (u16, __m512) {
-    // SAFETY: AVX-512F (the caller's contract); 16-lane aligned loads.
+unsafe fn entered<S: Simd16>(b: &Boxes, o: &[S::V; 3], inv: &[S::V; 3], tmax: f32) -> (u16, S::V) {
+    // SAFETY: `S`'s features (the caller's contract); aligned 16-lane
+    // loads.
     unsafe {
-        let mut enter = _mm512_setzero_ps();
-        let mut exit = _mm512_set1_ps(tmax);
+        let mut enter = S::splat(0.0);
+        let mut exit = S::splat(tmax);
         for a in 0..3 {
-            let t0 = _mm512_mul_ps(
-                _mm512_sub_ps(_mm512_load_ps(b.lo[a].as_ptr()), o[a]),
-                inv[a],
-            );
-            let t1 = _mm512_mul_ps(
-                _mm512_sub_ps(_mm512_load_ps(b.hi[a].as_ptr()), o[a]),
-                inv[a],
-            );
-            enter = _mm512_max_ps(enter, _mm512_min_ps(t0, t1));
-            exit = _mm512_min_ps(exit, _mm512_max_ps(t0, t1));
+            let t0 = S::mul(S::sub(S::load(b.lo[a].as_ptr()), o[a]), inv[a]);
+            let t1 = S::mul(S::sub(S::load(b.hi[a].as_ptr()), o[a]), inv[a]);
+            enter = S::max(enter, S::min(t0, t1));
+            exit = S::min(exit, S::max(t0, t1));
         }
-        (
-            b.used & _mm512_cmp_ps_mask::<_CMP_LE_OQ>(enter, exit),
-            enter,
-        )
+        (b.used & S::bits(S::le(enter, exit)), enter)
     }
 }
 
@@ -336,30 +324,27 @@ unsafe fn entered(b: &Boxes, o: &[__m512; 3], inv: &[__m512; 3], tmax: f32) -> (
 /// (as do all the others then). Of equal entries the lowest lane.
 ///
 /// # Safety
-/// The CPU must support AVX-512F.
+/// The CPU must support `S`.
 #[inline(always)]
-unsafe fn nearest(left: &mut u16, enter: __m512, t: f32) -> Option<usize> {
+unsafe fn nearest<S: Simd16>(left: &mut u16, enter: S::V, t: f32) -> Option<usize> {
     if *left == 0 {
         return None;
     }
-    // SAFETY: AVX-512F (the caller's contract).
+    // SAFETY: `S`'s features (the caller's contract).
     unsafe {
         let lane = if *left & (*left - 1) == 0 {
             // One lane: its entry alone (no reduction).
             let lane = left.trailing_zeros();
-            let near =
-                _mm512_cvtss_f32(_mm512_permutexvar_ps(_mm512_set1_epi32(lane as i32), enter));
-            if near > t {
+            if S::lane(enter, lane) > t {
                 return None;
             }
             lane
         } else {
-            let near = _mm512_mask_reduce_min_ps(*left, enter);
+            let near = S::reduce_min(*left, enter);
             if near > t {
                 return None;
             }
-            _mm512_mask_cmp_ps_mask::<_CMP_EQ_OQ>(*left, enter, _mm512_set1_ps(near))
-                .trailing_zeros()
+            (*left & S::bits(S::eq(enter, S::splat(near)))).trailing_zeros()
         };
         *left &= !(1 << lane);
         Some(lane as usize)
@@ -371,65 +356,56 @@ unsafe fn nearest(left: &mut u16, enter: __m512, t: f32) -> Option<usize> {
 /// test's operations (t = t_scaled · (1 / det), b = (v, w) / det).
 ///
 /// # Safety
-/// The CPU must support AVX-512F.
+/// The CPU must support `S`.
 #[inline(always)]
-unsafe fn chunk_closest(
+unsafe fn chunk_closest<S: Simd16>(
     chunk: &Chunk,
     ray: &WatertightRay,
     tmax: f32,
 ) -> Option<(u32, TriangleHit)> {
-    // SAFETY: AVX-512F (the caller's contract); 16-lane loads.
+    // SAFETY: `S`'s features (the caller's contract); aligned 16-lane
+    // loads.
     unsafe {
-        let vtmax = _mm512_set1_ps(tmax);
-        let e = TriangleScan::edges(chunk, ray, tmax);
-        let ok = chunk.used & accepts(&e, vtmax);
+        let vtmax = S::splat(tmax);
+        let e = TriangleScan::edges::<S>(chunk, ray, tmax);
+        let ok = chunk.used & accepts::<S>(&e, vtmax);
         if ok == 0 {
             return None;
         }
         if ok & (ok - 1) == 0 {
             // One lane (most chunks a ray hits): its values alone, in
             // the scalar test's order.
-            let lane = _mm512_set1_epi32(ok.trailing_zeros() as i32);
-            let det = _mm512_cvtss_f32(_mm512_permutexvar_ps(lane, e.det));
-            let t_scaled = _mm512_cvtss_f32(_mm512_permutexvar_ps(lane, e.t_scaled));
-            let inv = 1.0 / det;
-            let t = t_scaled * inv;
+            let lane = ok.trailing_zeros();
+            let inv = 1.0 / S::lane(e.det, lane);
+            let t = S::lane(e.t_scaled, lane) * inv;
             if !(t > 0.0 && t < tmax) {
                 return None;
             }
-            let v = _mm512_cvtss_f32(_mm512_permutexvar_ps(lane, e.v));
-            let w = _mm512_cvtss_f32(_mm512_permutexvar_ps(lane, e.w));
             let hit = TriangleHit {
                 t,
-                b1: v * inv,
-                b2: w * inv,
+                b1: S::lane(e.v, lane) * inv,
+                b2: S::lane(e.w, lane) * inv,
             };
-            return Some((chunk.index[ok.trailing_zeros() as usize], hit));
+            return Some((chunk.index[lane as usize], hit));
         }
-        let inv = _mm512_div_ps(_mm512_set1_ps(1.0), e.det);
-        let t = _mm512_mul_ps(e.t_scaled, inv);
-        let ok = ok
-            & _mm512_cmp_ps_mask::<_CMP_GT_OQ>(t, _mm512_setzero_ps())
-            & _mm512_cmp_ps_mask::<_CMP_LT_OQ>(t, vtmax);
+        let inv = S::recip(e.det);
+        let t = S::mul(e.t_scaled, inv);
+        let ok = ok & S::bits(S::and(S::gt(t, S::splat(0.0)), S::lt(t, vtmax)));
         if ok == 0 {
             return None;
         }
-        let near = _mm512_mask_reduce_min_ps(ok, t);
-        let lanes = _mm512_mask_cmp_ps_mask::<_CMP_EQ_OQ>(ok, t, _mm512_set1_ps(near));
-        let index = _mm512_load_si512(chunk.index.as_ptr().cast());
-        let id = _mm512_mask_reduce_min_epu32(lanes, index);
-        let winner = _mm512_mask_cmpeq_epi32_mask(lanes, index, _mm512_set1_epi32(id as i32));
-        let lane = _mm512_set1_epi32(winner.trailing_zeros() as i32);
-        // (Written out: intrinsics in closures would not be inlined.)
-        let inv = _mm512_cvtss_f32(_mm512_permutexvar_ps(lane, inv));
-        let v = _mm512_cvtss_f32(_mm512_permutexvar_ps(lane, e.v));
-        let w = _mm512_cvtss_f32(_mm512_permutexvar_ps(lane, e.w));
+        let near = S::reduce_min(ok, t);
+        let lanes = ok & S::bits(S::eq(t, S::splat(near)));
+        let index = S::load_u32(chunk.index.as_ptr());
+        let id = S::reduce_min_u32(lanes, index);
+        let lane = (lanes & S::bits(S::eq_u32(index, S::splat_u32(id)))).trailing_zeros();
+        let inv = S::lane(inv, lane);
         Some((
             id,
             TriangleHit {
                 t: near,
-                b1: v * inv,
-                b2: w * inv,
+                b1: S::lane(e.v, lane) * inv,
+                b2: S::lane(e.w, lane) * inv,
             },
         ))
     }
@@ -438,6 +414,7 @@ unsafe fn chunk_closest(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::accel::lanes16::{Avx2, Avx512, test_avx512_too};
     use glam::Vec3A;
     use penumbra_shading::stats::TestRng;
 
@@ -478,13 +455,13 @@ mod tests {
     /// (two rounds of clusters' bounds).
     #[test]
     fn cluster_scan_matches_scalar_test_of_every_triangle() {
-        if !std::arch::is_x86_feature_detected!("avx512f") {
-            assert!(
-                std::env::var_os("PENUMBRA_SKIP_AVX512").is_some(),
-                "no AVX-512 here: set PENUMBRA_SKIP_AVX512=1 to skip this test"
-            );
-            return;
+        cluster_scan_matches_scalar_test_with::<Avx2>();
+        if test_avx512_too() {
+            cluster_scan_matches_scalar_test_with::<Avx512>();
         }
+    }
+
+    fn cluster_scan_matches_scalar_test_with<S: Simd16>() {
         let mut rng = TestRng::new(5);
         let soup: Vec<[Vec3; 3]> = (0..6_000)
             .map(|_| {
@@ -528,8 +505,8 @@ mod tests {
                         }
                     }
                 }
-                // SAFETY: AVX-512F checked above.
-                let got = unsafe { scan.closest_avx512(&ray, o, d.recip(), tmax) };
+                // SAFETY: `S` checked by the caller.
+                let got = unsafe { scan.closest::<S>(&ray, o, d.recip(), tmax) };
                 match (expected, got) {
                     (None, None) => {}
                     (Some((k, e)), Some((j, g))) if equal > 0 => {
@@ -541,8 +518,8 @@ mod tests {
                     }
                     _ => panic!("ray {n}: {got:?} for {expected:?}"),
                 }
-                // SAFETY: AVX-512F checked above.
-                let blocked = unsafe { scan.occluded_avx512(&ray, o, d.recip(), tmax) };
+                // SAFETY: `S` checked by the caller.
+                let blocked = unsafe { scan.occluded::<S>(&ray, o, d.recip(), tmax) };
                 assert_eq!(blocked, expected.is_some(), "ray {n}");
             }
             assert!(hits > 1_500, "{hits} hits");

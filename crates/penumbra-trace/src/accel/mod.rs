@@ -13,6 +13,7 @@ mod collapse;
 mod frustum;
 mod huge_pages;
 mod identical_boxes;
+pub(crate) mod lanes16;
 mod packet;
 pub(crate) mod scan;
 mod traverse;

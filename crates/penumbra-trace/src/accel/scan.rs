@@ -1,5 +1,5 @@
 //! Every triangle of a tiny scene tested against one ray, sixteen
-//! triangles per AVX-512 instruction, without a tree: for scenes of at
+//! triangles per AVX-512 instruction (or two AVX2 ones), without a tree: for scenes of at
 //! most [`MAX_TRIANGLES`] triangles (a Cornell box has 32), where a tree
 //! walk costs more in branches and setup than the tests it saves.
 //!
@@ -21,17 +21,18 @@
 //! 0 take that module's scalar test with its f64 fallback. Of equal
 //! distances the lowest triangle index wins.
 //!
-//! One of the crate's modules with `unsafe` code: its AVX-512 intrinsics.
+//! One of the crate's modules with `unsafe` code: its calls of the
+//! sixteen-lane operations (`lanes16.rs`), which need the CPU's features.
 #![allow(unsafe_code)]
 // Lane loops index several structure-of-arrays fields by lane: the form
 // that vectorises plainly.
 #![allow(clippy::needless_range_loop)]
 
 use super::collapse::area as half_area;
+use super::lanes16::Simd16;
 use super::watertight::{TriangleHit, WatertightRay};
 use glam::{Vec3, Vec3A};
 use obvhs::aabb::Aabb;
-use std::arch::x86_64::*;
 
 /// Triangles per chunk: one 16-lane register.
 pub(super) const LANES: usize = 16;
@@ -97,12 +98,12 @@ pub struct TriangleScan {
 
 /// The watertight test's quantities of a chunk's triangles for one ray,
 /// one lane a triangle.
-pub(super) struct Edges {
-    pub u: __m512,
-    pub v: __m512,
-    pub w: __m512,
-    pub t_scaled: __m512,
-    pub det: __m512,
+pub(super) struct Edges<S: Simd16> {
+    pub u: S::V,
+    pub v: S::V,
+    pub w: S::V,
+    pub t_scaled: S::V,
+    pub det: S::V,
 }
 
 impl TriangleScan {
@@ -173,53 +174,46 @@ impl TriangleScan {
     /// multiply-adds, so the same roundings), sixteen lanes at once.
     ///
     /// # Safety
-    /// The CPU must support AVX-512F.
+    /// The CPU must support `S`.
     #[inline(always)]
-    pub(super) unsafe fn edges(chunk: &Chunk, ray: &WatertightRay, tmax: f32) -> Edges {
+    pub(super) unsafe fn edges<S: Simd16>(
+        chunk: &Chunk,
+        ray: &WatertightRay,
+        tmax: f32,
+    ) -> Edges<S> {
         let [kx, ky, kz] = ray.permutation();
         let [ox, oy, oz] = ray.origin_permuted();
         let [sx, sy, sz] = ray.shear();
-        // SAFETY: AVX-512F (the caller's contract); every load reads one
-        // 16-lane array of the chunk.
-        // SAFETY: AVX-512F (the caller's contract); every load reads one
-        // 16-lane array of the chunk.
-        let e = unsafe {
-            let o = [_mm512_set1_ps(ox), _mm512_set1_ps(oy), _mm512_set1_ps(oz)];
-            let s = [_mm512_set1_ps(sx), _mm512_set1_ps(sy), _mm512_set1_ps(sz)];
+        // SAFETY: `S`'s features (the caller's contract); every load
+        // reads one aligned 16-lane array of the chunk.
+        unsafe {
+            let o = [S::splat(ox), S::splat(oy), S::splat(oz)];
+            let s = [S::splat(sx), S::splat(sy), S::splat(sz)];
             let [kx, ky, kz] =
                 [kx, ky, kz].map(|a| [0, 1, 2].map(|c| chunk.corners[c][a].as_ptr()));
-            let (ax, ay, az) = sheared(kx[0], ky[0], kz[0], o, s);
-            let (bx, by, bz) = sheared(kx[1], ky[1], kz[1], o, s);
-            let (cx, cy, cz) = sheared(kx[2], ky[2], kz[2], o, s);
-            let u = _mm512_sub_ps(_mm512_mul_ps(cx, by), _mm512_mul_ps(cy, bx));
-            let v = _mm512_sub_ps(_mm512_mul_ps(ax, cy), _mm512_mul_ps(ay, cx));
-            let w = _mm512_sub_ps(_mm512_mul_ps(bx, ay), _mm512_mul_ps(by, ax));
-            let t_scaled = _mm512_add_ps(
-                _mm512_add_ps(_mm512_mul_ps(u, az), _mm512_mul_ps(v, bz)),
-                _mm512_mul_ps(w, cz),
-            );
-            let det = _mm512_add_ps(_mm512_add_ps(u, v), w);
-            Edges {
+            let (ax, ay, az) = sheared::<S>(kx[0], ky[0], kz[0], o, s);
+            let (bx, by, bz) = sheared::<S>(kx[1], ky[1], kz[1], o, s);
+            let (cx, cy, cz) = sheared::<S>(kx[2], ky[2], kz[2], o, s);
+            let u = S::sub(S::mul(cx, by), S::mul(cy, bx));
+            let v = S::sub(S::mul(ax, cy), S::mul(ay, cx));
+            let w = S::sub(S::mul(bx, ay), S::mul(by, ax));
+            let t_scaled = S::add(S::add(S::mul(u, az), S::mul(v, bz)), S::mul(w, cz));
+            let det = S::add(S::add(u, v), w);
+            let e = Edges {
                 u,
                 v,
                 w,
                 t_scaled,
                 det,
+            };
+            let z = S::splat(0.0);
+            let zero =
+                S::bits(S::or(S::or(S::eq(e.u, z), S::eq(e.v, z)), S::eq(e.w, z))) & chunk.used;
+            if zero == 0 {
+                e
+            } else {
+                Self::edges_by_scalar_test(chunk, ray, tmax, e, zero)
             }
-        };
-        // SAFETY: as above.
-        let zero = unsafe {
-            let z = _mm512_setzero_ps();
-            (_mm512_cmp_ps_mask::<_CMP_EQ_OQ>(e.u, z)
-                | _mm512_cmp_ps_mask::<_CMP_EQ_OQ>(e.v, z)
-                | _mm512_cmp_ps_mask::<_CMP_EQ_OQ>(e.w, z))
-                & chunk.used
-        };
-        if zero == 0 {
-            e
-        } else {
-            // SAFETY: as above.
-            unsafe { Self::edges_by_scalar_test(chunk, ray, tmax, e, zero) }
         }
     }
 
@@ -228,21 +222,23 @@ impl TriangleScan {
     /// t_scaled = t), a miss as det 0.
     ///
     /// # Safety
-    /// The CPU must support AVX-512F.
+    /// The CPU must support `S`.
     #[cold]
     #[inline(never)]
-    unsafe fn edges_by_scalar_test(
+    unsafe fn edges_by_scalar_test<S: Simd16>(
         chunk: &Chunk,
         ray: &WatertightRay,
         tmax: f32,
-        e: Edges,
+        e: Edges<S>,
         zero: u16,
-    ) -> Edges {
-        let mut lanes = [[0.0f32; LANES]; 5];
-        // SAFETY: AVX-512F (the caller's contract); 16 f32 out and in.
-        unsafe {
-            for (out, x) in lanes.iter_mut().zip([e.u, e.v, e.w, e.t_scaled, e.det]) {
-                _mm512_storeu_ps(out.as_mut_ptr(), x);
+    ) -> Edges<S> {
+        #[repr(C, align(64))]
+        struct Aligned([Lanes; 5]);
+        let mut lanes = Aligned([[0.0f32; LANES]; 5]);
+        for (out, x) in lanes.0.iter_mut().zip([e.u, e.v, e.w, e.t_scaled, e.det]) {
+            for (l, y) in out.iter_mut().enumerate() {
+                // SAFETY: `S`'s features (the caller's contract).
+                *y = unsafe { S::lane(x, l as u32) };
             }
         }
         for l in (0..LANES).filter(|&l| zero & (1 << l) != 0) {
@@ -251,19 +247,19 @@ impl TriangleScan {
                 Some(h) => [1.0, h.b1, h.b2, h.t, 1.0],
                 None => [0.0; 5],
             };
-            for (out, x) in lanes.iter_mut().zip(decided) {
+            for (out, x) in lanes.0.iter_mut().zip(decided) {
                 out[l] = x;
             }
         }
-        // SAFETY: as above.
+        // SAFETY: as above; aligned 16-lane arrays.
         unsafe {
-            let load = |k: usize| _mm512_loadu_ps(lanes[k].as_ptr());
+            let [u, v, w, t_scaled, det] = &lanes.0;
             Edges {
-                u: load(0),
-                v: load(1),
-                w: load(2),
-                t_scaled: load(3),
-                det: load(4),
+                u: S::load(u.as_ptr()),
+                v: S::load(v.as_ptr()),
+                w: S::load(w.as_ptr()),
+                t_scaled: S::load(t_scaled.as_ptr()),
+                det: S::load(det.as_ptr()),
             }
         }
     }
@@ -276,9 +272,9 @@ impl TriangleScan {
     /// materials seen by a camera ray).
     ///
     /// # Safety
-    /// The CPU must support AVX-512F.
+    /// The CPU must support `S`.
     #[inline(always)]
-    pub unsafe fn closest_avx512(
+    pub unsafe fn closest<S: Simd16>(
         &self,
         ray: &WatertightRay,
         d: Vec3,
@@ -286,61 +282,50 @@ impl TriangleScan {
         camera: bool,
         chunks: u16,
     ) -> Option<(u32, TriangleHit)> {
-        // SAFETY: AVX-512F (the caller's contract); the loads read the
-        // chunks' 16-lane arrays, the stores 16-lane locals.
+        // SAFETY: `S`'s features (the caller's contract); the loads read
+        // the chunks' aligned 16-lane arrays.
         unsafe {
             // Per lane, the nearest hit among that lane's triangles of all
             // chunks: no distance is carried from chunk to chunk, so their
             // tests overlap; one reduction at the end.
-            let mut near = _mm512_set1_ps(f32::INFINITY);
-            let mut near_index = _mm512_setzero_si512();
-            let mut near_v = _mm512_setzero_ps();
-            let mut near_w = _mm512_setzero_ps();
-            let mut near_det = _mm512_set1_ps(1.0);
-            let (dx, dy, dz) = (
-                _mm512_set1_ps(d.x),
-                _mm512_set1_ps(d.y),
-                _mm512_set1_ps(d.z),
-            );
-            let vtmax = _mm512_set1_ps(tmax);
+            let mut near = S::splat(f32::INFINITY);
+            let mut near_index = S::splat_u32(0);
+            let mut near_v = S::splat(0.0);
+            let mut near_w = S::splat(0.0);
+            let mut near_det = S::splat(1.0);
+            let (dx, dy, dz) = (S::splat(d.x), S::splat(d.y), S::splat(d.z));
+            let vtmax = S::splat(tmax);
             // The lanes that hold a hit.
             let mut hit_lanes = 0u16;
             let mut todo = chunks;
             while todo != 0 {
                 let chunk = self.chunk(todo.trailing_zeros() as usize);
                 todo &= todo - 1;
-                let e = Self::edges(chunk, ray, tmax);
-                // 1/det from the 14-bit estimate and one Newton step: within
-                // about an ulp, it only ranks the hits (the chosen one's
-                // barycentrics are divided exactly below).
-                let r = _mm512_rcp14_ps(e.det);
-                let inv = _mm512_mul_ps(r, _mm512_fnmadd_ps(e.det, r, _mm512_set1_ps(2.0)));
-                let mut ok = chunk.used & accepts(&e, vtmax);
+                let e = Self::edges::<S>(chunk, ray, tmax);
+                // 1/det within about an ulp: it only ranks the hits (the
+                // chosen one's barycentrics are divided exactly below).
+                let inv = S::recip_fast(e.det);
+                let mut ok = chunk.used & accepts::<S>(&e, vtmax);
                 if camera {
                     let [nx, ny, nz] = &chunk.normal;
-                    let facing = _mm512_add_ps(
-                        _mm512_add_ps(
-                            _mm512_mul_ps(_mm512_load_ps(nx.as_ptr()), dx),
-                            _mm512_mul_ps(_mm512_load_ps(ny.as_ptr()), dy),
+                    let facing = S::add(
+                        S::add(
+                            S::mul(S::load(nx.as_ptr()), dx),
+                            S::mul(S::load(ny.as_ptr()), dy),
                         ),
-                        _mm512_mul_ps(_mm512_load_ps(nz.as_ptr()), dz),
+                        S::mul(S::load(nz.as_ptr()), dz),
                     );
-                    let culled =
-                        chunk.culls & _mm512_cmp_ps_mask::<_CMP_GT_OQ>(facing, _mm512_setzero_ps());
+                    let culled = chunk.culls & S::bits(S::gt(facing, S::splat(0.0)));
                     ok &= !culled;
                 }
-                let t = _mm512_mul_ps(e.t_scaled, inv);
-                let closer = _mm512_mask_cmp_ps_mask::<_CMP_LT_OQ>(ok, t, near);
-                hit_lanes |= closer;
-                near = _mm512_mask_blend_ps(closer, near, t);
-                near_index = _mm512_mask_blend_epi32(
-                    closer,
-                    near_index,
-                    _mm512_load_si512(chunk.index.as_ptr().cast()),
-                );
-                near_v = _mm512_mask_blend_ps(closer, near_v, e.v);
-                near_w = _mm512_mask_blend_ps(closer, near_w, e.w);
-                near_det = _mm512_mask_blend_ps(closer, near_det, e.det);
+                let t = S::mul(e.t_scaled, inv);
+                let closer = S::and(S::mask(ok), S::lt(t, near));
+                hit_lanes |= S::bits(closer);
+                near = S::blend(closer, near, t);
+                near_index = S::blend_u32(closer, near_index, S::load_u32(chunk.index.as_ptr()));
+                near_v = S::blend(closer, near_v, e.v);
+                near_w = S::blend(closer, near_w, e.w);
+                near_det = S::blend(closer, near_det, e.det);
             }
             if hit_lanes == 0 {
                 return None;
@@ -348,35 +333,26 @@ impl TriangleScan {
             let (t, k, lane) = if hit_lanes & (hit_lanes - 1) == 0 {
                 // One lane with hits (most rays): its nearest, without
                 // the reductions.
-                let lane = _mm512_set1_epi32(hit_lanes.trailing_zeros() as i32);
-                let t = _mm512_cvtss_f32(_mm512_permutexvar_ps(lane, near));
-                let k = _mm512_cvtsi512_si32(_mm512_permutexvar_epi32(lane, near_index)) as u32;
-                (t, k, lane)
+                let lane = hit_lanes.trailing_zeros();
+                (S::lane(near, lane), S::lane_u32(near_index, lane), lane)
             } else {
-                let t = _mm512_mask_reduce_min_ps(hit_lanes, near);
-                // Of equal distances, the lowest triangle index, found
-                // without a loop over the lanes.
-                let lanes =
-                    _mm512_mask_cmp_ps_mask::<_CMP_EQ_OQ>(hit_lanes, near, _mm512_set1_ps(t));
-                let k = _mm512_mask_reduce_min_epu32(lanes, near_index);
-                let winner =
-                    _mm512_mask_cmpeq_epi32_mask(lanes, near_index, _mm512_set1_epi32(k as i32));
-                (t, k, _mm512_set1_epi32(winner.trailing_zeros() as i32))
+                let t = S::reduce_min(hit_lanes, near);
+                // Of equal distances, the lowest triangle index.
+                let lanes = hit_lanes & S::bits(S::eq(near, S::splat(t)));
+                let k = S::reduce_min_u32(lanes, near_index);
+                let winner = lanes & S::bits(S::eq_u32(near_index, S::splat_u32(k)));
+                (t, k, winner.trailing_zeros())
             };
             if t.is_nan() || t >= tmax {
                 return None;
             }
-            // (Written out: intrinsics in closures would not be inlined.)
-            let v = _mm512_cvtss_f32(_mm512_permutexvar_ps(lane, near_v));
-            let w = _mm512_cvtss_f32(_mm512_permutexvar_ps(lane, near_w));
-            let det = _mm512_cvtss_f32(_mm512_permutexvar_ps(lane, near_det));
-            let inv = 1.0 / det;
+            let inv = 1.0 / S::lane(near_det, lane);
             Some((
                 k,
                 TriangleHit {
                     t,
-                    b1: v * inv,
-                    b2: w * inv,
+                    b1: S::lane(near_v, lane) * inv,
+                    b2: S::lane(near_w, lane) * inv,
                 },
             ))
         }
@@ -387,17 +363,17 @@ impl TriangleScan {
     /// first that holds one.
     ///
     /// # Safety
-    /// The CPU must support AVX-512F.
+    /// The CPU must support `S`.
     #[inline(always)]
-    pub unsafe fn occluded_avx512(&self, ray: &WatertightRay, tmax: f32, chunks: u16) -> bool {
-        // SAFETY: AVX-512F (the caller's contract).
+    pub unsafe fn occluded<S: Simd16>(&self, ray: &WatertightRay, tmax: f32, chunks: u16) -> bool {
+        // SAFETY: `S`'s features (the caller's contract).
         unsafe {
-            let vtmax = _mm512_set1_ps(tmax);
+            let vtmax = S::splat(tmax);
             let mut todo = chunks;
             while todo != 0 {
                 let chunk = self.chunk(todo.trailing_zeros() as usize);
                 todo &= todo - 1;
-                if chunk.used & accepts(&Self::edges(chunk, ray, tmax), vtmax) != 0 {
+                if chunk.used & accepts::<S>(&Self::edges::<S>(chunk, ray, tmax), vtmax) != 0 {
                     return true;
                 }
             }
@@ -525,29 +501,23 @@ pub fn slabs(
 /// `WatertightRay::intersect_a`: (x - sx z, y - sy z, sz z).
 ///
 /// # Safety
-/// The CPU must support AVX-512F, and each pointer must point at 16 f32
+/// The CPU must support `S`, and each pointer must point at 16 f32
 /// aligned to 64 bytes. (A function, not a closure, so that it is inlined
-/// into the caller compiled for AVX-512 before its intrinsics are.)
+/// into the caller compiled for `S` before its intrinsics are.)
 #[inline(always)]
-unsafe fn sheared(
+unsafe fn sheared<S: Simd16>(
     x: *const f32,
     y: *const f32,
     z: *const f32,
-    o: [__m512; 3],
-    s: [__m512; 3],
-) -> (__m512, __m512, __m512) {
+    o: [S::V; 3],
+    s: [S::V; 3],
+) -> (S::V, S::V, S::V) {
     // SAFETY: the caller's contract.
     unsafe {
-        let z = _mm512_sub_ps(_mm512_load_ps(z), o[2]);
-        let x = _mm512_sub_ps(
-            _mm512_sub_ps(_mm512_load_ps(x), o[0]),
-            _mm512_mul_ps(s[0], z),
-        );
-        let y = _mm512_sub_ps(
-            _mm512_sub_ps(_mm512_load_ps(y), o[1]),
-            _mm512_mul_ps(s[1], z),
-        );
-        (x, y, _mm512_mul_ps(s[2], z))
+        let z = S::sub(S::load(z), o[2]);
+        let x = S::sub(S::sub(S::load(x), o[0]), S::mul(s[0], z));
+        let y = S::sub(S::sub(S::load(y), o[1]), S::mul(s[1], z));
+        (x, y, S::mul(s[2], z))
     }
 }
 
@@ -557,34 +527,33 @@ unsafe fn sheared(
 /// then also checks t < tmax after its division).
 ///
 /// # Safety
-/// The CPU must support AVX-512F.
+/// The CPU must support `S`.
 #[inline(always)]
-pub(super) unsafe fn accepts(e: &Edges, tmax: __m512) -> u16 {
-    // SAFETY: AVX-512F (the caller's contract).
+pub(super) unsafe fn accepts<S: Simd16>(e: &Edges<S>, tmax: S::V) -> u16 {
+    // SAFETY: `S`'s features (the caller's contract).
     unsafe {
-        let z = _mm512_setzero_ps();
+        let z = S::splat(0.0);
         // (Written out: intrinsics in closures would not be inlined.)
-        let negative = _mm512_cmp_ps_mask::<_CMP_LT_OQ>(e.u, z)
-            | _mm512_cmp_ps_mask::<_CMP_LT_OQ>(e.v, z)
-            | _mm512_cmp_ps_mask::<_CMP_LT_OQ>(e.w, z);
-        let positive = _mm512_cmp_ps_mask::<_CMP_GT_OQ>(e.u, z)
-            | _mm512_cmp_ps_mask::<_CMP_GT_OQ>(e.v, z)
-            | _mm512_cmp_ps_mask::<_CMP_GT_OQ>(e.w, z);
-        let bound = _mm512_mul_ps(tmax, e.det);
-        let ahead = _mm512_cmp_ps_mask::<_CMP_GT_OQ>(e.det, z)
-            & _mm512_cmp_ps_mask::<_CMP_GT_OQ>(e.t_scaled, z)
-            & _mm512_cmp_ps_mask::<_CMP_LT_OQ>(e.t_scaled, bound);
-        let behind = _mm512_cmp_ps_mask::<_CMP_LT_OQ>(e.det, z)
-            & _mm512_cmp_ps_mask::<_CMP_LT_OQ>(e.t_scaled, z)
-            & _mm512_cmp_ps_mask::<_CMP_GT_OQ>(e.t_scaled, bound);
-        let mixed = negative & positive;
-        !mixed & (ahead | behind)
+        let negative = S::or(S::or(S::lt(e.u, z), S::lt(e.v, z)), S::lt(e.w, z));
+        let positive = S::or(S::or(S::gt(e.u, z), S::gt(e.v, z)), S::gt(e.w, z));
+        let bound = S::mul(tmax, e.det);
+        let ahead = S::and(
+            S::and(S::gt(e.det, z), S::gt(e.t_scaled, z)),
+            S::lt(e.t_scaled, bound),
+        );
+        let behind = S::and(
+            S::and(S::lt(e.det, z), S::lt(e.t_scaled, z)),
+            S::gt(e.t_scaled, bound),
+        );
+        let mixed = S::bits(S::and(negative, positive));
+        !mixed & S::bits(S::or(ahead, behind))
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::accel::lanes16::{Avx2, Avx512, test_avx512_too};
     use penumbra_shading::stats::TestRng;
 
     fn point(rng: &mut TestRng, scale: f32) -> Vec3 {
@@ -635,13 +604,13 @@ mod tests {
     /// rays pass the back faces of culling triangles.
     #[test]
     fn scan_matches_scalar_test_of_every_triangle() {
-        if !std::arch::is_x86_feature_detected!("avx512f") {
-            assert!(
-                std::env::var_os("PENUMBRA_SKIP_AVX512").is_some(),
-                "no AVX-512 here: set PENUMBRA_SKIP_AVX512=1 to skip this test"
-            );
-            return;
+        scan_matches_scalar_test_with::<Avx2>();
+        if test_avx512_too() {
+            scan_matches_scalar_test_with::<Avx512>();
         }
+    }
+
+    fn scan_matches_scalar_test_with<S: Simd16>() {
         let mut rng = TestRng::new(11);
         let (tris, normals, culls, objects) = soup(&mut rng);
         let scan = TriangleScan::new(&tris, &normals, &culls, &objects).unwrap();
@@ -677,11 +646,11 @@ mod tests {
                     expected = Some((k as u32, h));
                 }
             }
-            // SAFETY: AVX-512F checked above.
+            // SAFETY: `S` checked by the caller.
             let lanes = |v: Vec3| [[v.x; LANES], [v.y; LANES], [v.z; LANES]];
             let chunks = scan.chunks_passed(&lanes(o), &lanes(d.recip()), &[tmax; LANES])[0];
             skipped += usize::from(chunks.count_ones() < scan.chunks.len() as u32);
-            let got = unsafe { scan.closest_avx512(&ray, d, tmax, camera, chunks) };
+            let got = unsafe { scan.closest::<S>(&ray, d, tmax, camera, chunks) };
             match (expected, got) {
                 (None, None) => {}
                 (Some((k, e)), Some((j, g))) => {
@@ -714,9 +683,9 @@ mod tests {
                 let [a, b, c] = t.map(Vec3A::from);
                 ray.intersect_a(a, b, c, tmax).is_some()
             });
-            // SAFETY: AVX-512F checked above.
+            // SAFETY: `S` checked by the caller.
             assert_eq!(
-                unsafe { scan.occluded_avx512(&ray, tmax, chunks) },
+                unsafe { scan.occluded::<S>(&ray, tmax, chunks) },
                 blocked,
                 "ray {n}"
             );

@@ -4,7 +4,8 @@
 //! stage of a path segment (closest hit, emission, light sample, shadow
 //! ray, BSDF sample, Russian roulette) runs for all sixteen lanes before
 //! the next, its arithmetic written over 16-lane arrays so that the
-//! compiler turns it into AVX-512 instructions, and a lane whose path
+//! compiler turns it into AVX-512 instructions (or AVX2 ones, two
+//! registers per array, on CPUs without AVX-512), and a lane whose path
 //! ends starts its pixel's next sample at once (its lanes stay busy).
 //!
 //! The estimator is [`super::path`]'s, operation for operation: next-event
@@ -23,8 +24,10 @@
 //! conductors, Phong, rough dielectrics and metallic–roughness, are
 //! sampled and evaluated lane by lane with the shared [`Bsdf`] code, in
 //! loops apart that run only where a group's lanes hit them); light from emissive
-//! triangles only (no environment, abstract or analytic area lights); a
-//! CPU with AVX-512. `PENUMBRA_SCALAR_PATHS=1` (or
+//! triangles only (no environment, abstract or analytic area lights); an
+//! x86-64 CPU with AVX2 (the lanes run in one AVX-512 register where the
+//! CPU has AVX-512, else in two AVX2 ones: [`LaneKind`],
+//! `accel/lanes16.rs`). `PENUMBRA_SCALAR_PATHS=1` (or
 //! [`crate::RenderOptions::scalar_paths`]) keeps the scalar integrator for
 //! comparisons.
 //!
@@ -37,16 +40,17 @@
 //! sphere's thousands of triangles, whose box most rays miss), else
 //! through a BVH of their own.
 //!
-//! One of the crate's modules with `unsafe` code: the AVX-512 entry point,
-//! the attribute reads (register permutes, gathers) and table reads
-//! without bounds checks (a checked read's branch would keep a lane loop
-//! from vectorising).
+//! One of the crate's modules with `unsafe` code: the entry points
+//! compiled for AVX-512 and AVX2, the attribute reads (register permutes,
+//! gathers) and table reads without bounds checks (a checked read's
+//! branch would keep a lane loop from vectorising).
 #![allow(unsafe_code)]
 // Lane loops index several structure-of-arrays fields by lane: the form
 // that vectorises plainly.
 #![allow(clippy::needless_range_loop)]
 
 use crate::accel::cluster_scan::{self, ClusterScan};
+use crate::accel::lanes16::{Avx2, Avx512, Simd16};
 use crate::accel::scan::{self, TriangleScan, padded, reciprocals, slabs};
 use crate::accel::{Accel, BuildQuality, WatertightRay};
 use crate::geometry::SceneGeometry;
@@ -61,7 +65,8 @@ use penumbra_shading::sampling::{
 };
 use std::f32::consts::FRAC_1_PI;
 
-/// Paths in flight per group: one AVX-512 register of f32.
+/// Paths in flight per group: one AVX-512 register of f32, or two AVX2
+/// ones.
 pub(crate) const LANES: usize = 16;
 
 // Segments after which Russian roulette may end a path, and its survival
@@ -209,43 +214,67 @@ impl Tables {
     /// per read).
     ///
     /// # Safety
-    /// The CPU must support AVX-512F.
+    /// The CPU must support `S`.
     #[inline(always)]
-    unsafe fn read<const K: usize>(
+    unsafe fn read<S: Simd16, const K: usize>(
         &self,
         which: &[usize; K],
         index: &[u32; LANES],
         out: &mut [F; ATTRIBUTES],
     ) {
         use std::arch::x86_64::*;
-        // SAFETY: AVX-512F (the caller's contract); in blocks, each
-        // component is 64 aligned f32 read as four aligned registers; in
-        // rows, the gather reads entry `index × ROW + a` with `index <
-        // triangles` and `a < ROW`, inside `data`; 16 values written.
-        unsafe {
-            let vindex = _mm512_loadu_si512(index.as_ptr().cast());
-            if !self.rows {
-                let upper = _mm512_test_epi32_mask(vindex, _mm512_set1_epi32(32));
-                for &a in which {
-                    let t = self.data.as_ptr().add(a).cast::<f32>();
-                    let low = _mm512_permutex2var_ps(
-                        _mm512_load_ps(t),
-                        vindex,
-                        _mm512_load_ps(t.add(16)),
-                    );
-                    let high = _mm512_permutex2var_ps(
-                        _mm512_load_ps(t.add(32)),
-                        vindex,
-                        _mm512_load_ps(t.add(48)),
-                    );
-                    _mm512_storeu_ps(out[a].as_mut_ptr(), _mm512_mask_blend_ps(upper, low, high));
+        if S::AVX512 {
+            // SAFETY: `S`'s features (the caller's contract); in blocks, each
+            // component is 64 aligned f32 read as four aligned registers;
+            // in rows, the gather reads entry `index × ROW + a` with
+            // `index < triangles` and `a < ROW`, inside `data`; 16 values
+            // written.
+            unsafe {
+                let vindex = _mm512_loadu_si512(index.as_ptr().cast());
+                if !self.rows {
+                    let upper = _mm512_test_epi32_mask(vindex, _mm512_set1_epi32(32));
+                    for &a in which {
+                        let t = self.data.as_ptr().add(a).cast::<f32>();
+                        let low = _mm512_permutex2var_ps(
+                            _mm512_load_ps(t),
+                            vindex,
+                            _mm512_load_ps(t.add(16)),
+                        );
+                        let high = _mm512_permutex2var_ps(
+                            _mm512_load_ps(t.add(32)),
+                            vindex,
+                            _mm512_load_ps(t.add(48)),
+                        );
+                        _mm512_storeu_ps(
+                            out[a].as_mut_ptr(),
+                            _mm512_mask_blend_ps(upper, low, high),
+                        );
+                    }
+                } else {
+                    let rows = _mm512_slli_epi32::<5>(vindex);
+                    const _: () = assert!(ROW == 1 << 5);
+                    for &a in which {
+                        let t = self.data.as_ptr().cast::<f32>().add(a);
+                        _mm512_storeu_ps(out[a].as_mut_ptr(), _mm512_i32gather_ps::<4>(rows, t));
+                    }
                 }
-            } else {
-                let rows = _mm512_slli_epi32::<5>(vindex);
-                const _: () = assert!(ROW == 1 << 5);
+            }
+        } else {
+            // SAFETY: AVX2 (the caller's contract); the gathers read entry
+            // `a × 64 + index` (blocks) or `index × ROW + a` (rows) with
+            // `index < triangles` and `a < ATTRIBUTES`, inside `data`; 16
+            // values written.
+            unsafe {
+                let shift = _mm_cvtsi32_si128(if self.rows { 5 } else { 0 });
+                let low = _mm256_sll_epi32(_mm256_loadu_si256(index.as_ptr().cast()), shift);
+                let high =
+                    _mm256_sll_epi32(_mm256_loadu_si256(index.as_ptr().add(8).cast()), shift);
                 for &a in which {
-                    let t = self.data.as_ptr().cast::<f32>().add(a);
-                    _mm512_storeu_ps(out[a].as_mut_ptr(), _mm512_i32gather_ps::<4>(rows, t));
+                    let first = if self.rows { a } else { a * 64 };
+                    let t = self.data.as_ptr().cast::<f32>().add(first);
+                    let o = out[a].as_mut_ptr();
+                    _mm256_storeu_ps(o, _mm256_i32gather_ps::<4>(t, low));
+                    _mm256_storeu_ps(o.add(8), _mm256_i32gather_ps::<4>(t, high));
                 }
             }
         }
@@ -548,9 +577,9 @@ impl Tracer {
     /// the BVH part each ray leaves (see [`BvhPart::passed`]).
     ///
     /// # Safety
-    /// The CPU must support AVX-512F.
+    /// The CPU must support `S`.
     #[inline(always)]
-    unsafe fn closest(
+    unsafe fn closest<S: Simd16>(
         &self,
         (o, d): (&[F; 3], &[F; 3]),
         camera: &B,
@@ -576,11 +605,11 @@ impl Tracer {
                     continue;
                 }
                 let ray = &rays[i];
-                // SAFETY: AVX-512F (the caller's contract); the scan's
+                // SAFETY: `S`'s features (the caller's contract); the scan's
                 // indices are below `ids.len()`.
                 unsafe {
                     if let Some((k, h)) =
-                        scan.closest_avx512(ray, lane(d, i), tmax[i], camera[i], chunks[i])
+                        scan.closest::<S>(ray, lane(d, i), tmax[i], camera[i], chunks[i])
                     {
                         tmax[i] = h.t;
                         // (No map where the scan holds every triangle.)
@@ -613,8 +642,8 @@ impl Tracer {
                         while todo != 0 {
                             let scan = &scans[todo.trailing_zeros() as usize];
                             todo &= todo - 1;
-                            // SAFETY: AVX-512F (the caller's contract).
-                            let h = unsafe { scan.closest_avx512(ray, oi, inv_i, tmax[i]) };
+                            // SAFETY: `S`'s features (the caller's contract).
+                            let h = unsafe { scan.closest::<S>(ray, oi, inv_i, tmax[i]) };
                             if let Some((id, h)) = h {
                                 tmax[i] = h.t;
                                 hit = Some((id, h.b1, h.b2));
@@ -640,9 +669,9 @@ impl Tracer {
     /// [`Self::closest`].
     ///
     /// # Safety
-    /// The CPU must support AVX-512F.
+    /// The CPU must support `S`.
     #[inline(always)]
-    unsafe fn unoccluded(
+    unsafe fn unoccluded<S: Simd16>(
         &self,
         (o, d): (&[F; 3], &[F; 3]),
         tmax: &F,
@@ -658,8 +687,8 @@ impl Tracer {
                     continue;
                 }
                 let ray = WatertightRay::new(lane(o, i), lane(d, i));
-                // SAFETY: AVX-512F (the caller's contract).
-                shadow[i] = !unsafe { scan.occluded_avx512(&ray, tmax[i], chunks[i]) };
+                // SAFETY: `S`'s features (the caller's contract).
+                shadow[i] = !unsafe { scan.occluded::<S>(&ray, tmax[i], chunks[i]) };
             }
         }
         if let Some(part) = &self.bvh {
@@ -681,8 +710,8 @@ impl Tracer {
                         while todo != 0 && !blocked {
                             let scan = &scans[todo.trailing_zeros() as usize];
                             todo &= todo - 1;
-                            // SAFETY: AVX-512F (the caller's contract).
-                            blocked = unsafe { scan.occluded_avx512(ray, oi, inv_i, tmax[i]) };
+                            // SAFETY: `S`'s features (the caller's contract).
+                            blocked = unsafe { scan.occluded::<S>(ray, oi, inv_i, tmax[i]) };
                         }
                         blocked
                     }
@@ -704,6 +733,8 @@ pub(crate) struct WavefrontScene {
     running_sums: Vec<f64>,
     total_weight: f64,
     tracer: Tracer,
+    /// The registers the lanes run in.
+    kind: LaneKind,
     /// Every surface is Lambertian and shaded flat.
     flat_lambert: bool,
     /// The materials' BSDFs, for the surfaces shaded with the shared code
@@ -712,36 +743,40 @@ pub(crate) struct WavefrontScene {
     max_depth: u32,
 }
 
+/// The registers the sixteen lanes run in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum LaneKind {
+    /// One AVX-512 register.
+    Avx512,
+    /// Two AVX2 registers.
+    Avx2,
+}
+
 impl WavefrontScene {
     /// The scene as the lanes read it, or `None` where the scene, the
     /// settings or the CPU are outside this integrator's scope (see the
-    /// module's documentation).
+    /// module's documentation). The lanes run in one AVX-512 register
+    /// where the CPU has AVX-512 and not `avx2_only`, else in two AVX2
+    /// ones.
     pub(crate) fn new(
         scene: &Scene,
         geometry: &SceneGeometry,
         light_sampler: &LightSampler,
         settings: &RenderSettings,
+        avx2_only: bool,
     ) -> Option<Self> {
-        // Every feature `trace_group` is compiled for.
+        // Every feature a `trace_group_*` is compiled for.
         #[cfg(target_arch = "x86_64")]
-        let cpu = {
-            use std::arch::is_x86_feature_detected as has;
-            has!("avx512f")
-                && has!("avx512vl")
-                && has!("avx512dq")
-                && has!("avx512bw")
-                && has!("avx2")
-                && has!("fma")
-                && has!("bmi1")
-                && has!("bmi2")
-                && has!("lzcnt")
-                && has!("popcnt")
+        let kind = if Avx512::supported() && !avx2_only {
+            Some(LaneKind::Avx512)
+        } else {
+            Avx2::supported().then_some(LaneKind::Avx2)
         };
         #[cfg(not(target_arch = "x86_64"))]
-        let cpu = false;
+        let kind: Option<LaneKind> = None;
         let n = geometry.triangles.len();
-        if !cpu
-            || settings.integrator != IntegratorKind::Path
+        let kind = kind?;
+        if settings.integrator != IntegratorKind::Path
             || n == 0
             // (Checked again by object in `Tracer::new`; here before the
             // tables are filled.)
@@ -826,6 +861,7 @@ impl WavefrontScene {
         Some(WavefrontScene {
             tracer,
             tables,
+            kind,
             flat_lambert,
             shared_bsdfs: if any_shared {
                 scene.materials.iter().map(|m| m.bsdf).collect()
@@ -876,21 +912,64 @@ struct Paths {
     camera_hit: B,
 }
 
+/// [`trace_group`] in one AVX-512 register per lane array.
+///
+/// # Safety
+/// The CPU must support the features it is compiled for.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+#[allow(clippy::too_many_arguments)]
+unsafe fn trace_group_avx512<const GENERAL: bool>(
+    s: &WavefrontScene,
+    film: &FilmRays,
+    pixels: &[(u32, u32)],
+    samplers: &mut [Sampler],
+    samples: (u32, u32),
+    tile: &mut FilmTile,
+    hits: &mut [u32],
+    rows: ((u32, u32), u32),
+) {
+    // SAFETY: the features, as `Avx512` needs.
+    unsafe { trace_group::<Avx512, GENERAL>(s, film, pixels, samplers, samples, tile, hits, rows) }
+}
+
+/// [`trace_group`] in two AVX2 registers per lane array.
+///
+/// # Safety
+/// The CPU must support the features it is compiled for.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+#[allow(clippy::too_many_arguments)]
+unsafe fn trace_group_avx2<const GENERAL: bool>(
+    s: &WavefrontScene,
+    film: &FilmRays,
+    pixels: &[(u32, u32)],
+    samplers: &mut [Sampler],
+    samples: (u32, u32),
+    tile: &mut FilmTile,
+    hits: &mut [u32],
+    rows: ((u32, u32), u32),
+) {
+    // SAFETY: the features, as `Avx2` needs.
+    unsafe { trace_group::<Avx2, GENERAL>(s, film, pixels, samplers, samples, tile, hits, rows) }
+}
+
 /// Sample indices `s0..s1` of every pixel of `pixels` (at most
 /// [`LANES`]), each with its sampler, onto `tile`; `hits` counts per
 /// pixel of the tile (row length `tile_w`, origin `tile_origin`) the
 /// samples whose camera ray met a surface. With `GENERAL` for any scene
 /// in scope, without for flat Lambert surfaces only (see [`segment`]):
 /// two functions, one per kind of scene, so that neither carries the
-/// other's code (a render runs one of them).
+/// other's code (a render runs one of them). Compiled once per
+/// [`LaneKind`] ([`trace_group_avx512`], [`trace_group_avx2`]), inlined
+/// into each.
 ///
 /// # Safety
-/// The CPU must support the features it is compiled for (checked by
-/// [`WavefrontScene::new`]).
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+/// The CPU must support `S` and the features its entry point is compiled
+/// for (checked by [`WavefrontScene::new`]).
+#[inline(always)]
 #[allow(clippy::too_many_arguments)]
-unsafe fn trace_group<const GENERAL: bool>(
+unsafe fn trace_group<S: Simd16, const GENERAL: bool>(
     s: &WavefrontScene,
     film: &FilmRays,
     pixels: &[(u32, u32)],
@@ -961,7 +1040,7 @@ unsafe fn trace_group<const GENERAL: bool>(
         if !any_live {
             return;
         }
-        segment::<GENERAL>(s, &mut p, samplers, &mut reads);
+        segment::<S, GENERAL>(s, &mut p, samplers, &mut reads);
     }
 }
 
@@ -971,7 +1050,7 @@ unsafe fn trace_group<const GENERAL: bool>(
 /// surfaces are all flat and Lambertian (shading normal = face normal, no
 /// dielectric), and the work for the others is left out.
 #[inline(always)]
-fn segment<const GENERAL: bool>(
+fn segment<S: Simd16, const GENERAL: bool>(
     s: &WavefrontScene,
     p: &mut Paths,
     samplers: &mut [Sampler],
@@ -982,9 +1061,9 @@ fn segment<const GENERAL: bool>(
     let mut bary = [[0.0f32; LANES]; 2];
     let camera: B = p.depth.map(|d| d == 1);
     crate::stats::count_rays(p.live.iter().filter(|&&l| l).count() as u64);
-    // SAFETY: AVX-512F (`trace_group`'s contract).
+    // SAFETY: `S`'s features (`trace_group`'s contract).
     unsafe {
-        s.tracer.closest(
+        s.tracer.closest::<S>(
             (&p.origin, &p.dir),
             &camera,
             &p.leaves,
@@ -1001,18 +1080,18 @@ fn segment<const GENERAL: bool>(
     for i in 0..LANES {
         tri[i] = if p.live[i] { tri[i] } else { 0 };
     }
-    // SAFETY: AVX-512F (`trace_group`'s contract); triangle indices.
+    // SAFETY: `S`'s features (`trace_group`'s contract); triangle indices.
     unsafe {
         if GENERAL {
-            s.tables.read(&HIT_READS, &tri, g);
+            s.tables.read::<S, _>(&HIT_READS, &tri, g);
             if !s.shared_bsdfs.is_empty() {
-                s.tables.read(&[SHARED], &tri, g);
+                s.tables.read::<S, _>(&[SHARED], &tri, g);
             }
             if s.tracer.has_convex() {
-                s.tables.read(&[CONVEX], &tri, g);
+                s.tables.read::<S, _>(&[CONVEX], &tri, g);
             }
         } else {
-            s.tables.read(&FLAT_LAMBERT_READS, &tri, g);
+            s.tables.read::<S, _>(&FLAT_LAMBERT_READS, &tri, g);
         }
     }
     let mut point = [[0.0f32; LANES]; 3];
@@ -1189,8 +1268,8 @@ fn segment<const GENERAL: bool>(
         // SAFETY: j ≤ last < lights.len().
         light[i] = unsafe { at(&s.lights, j) };
     }
-    // SAFETY: AVX-512F (`trace_group`'s contract); triangle indices.
-    unsafe { s.tables.read(&LIGHT_READS, &light, l) };
+    // SAFETY: `S`'s features (`trace_group`'s contract); triangle indices.
+    unsafe { s.tables.read::<S, _>(&LIGHT_READS, &light, l) };
     let mut shadow_origin = [[0.0f32; LANES]; 3];
     let mut wi = [[0.0f32; LANES]; 3];
     let mut shadow_tmax = [0.0f32; LANES];
@@ -1281,9 +1360,9 @@ fn segment<const GENERAL: bool>(
         }
     }
     crate::stats::count_rays(shadow.iter().filter(|&&l| l).count() as u64);
-    // SAFETY: AVX-512F (`trace_group`'s contract).
+    // SAFETY: `S`'s features (`trace_group`'s contract).
     unsafe {
-        s.tracer.unoccluded(
+        s.tracer.unoccluded::<S>(
             (&shadow_origin, &wi),
             &shadow_tmax,
             &shadow_leaves,
@@ -1481,18 +1560,18 @@ pub(crate) fn render_tile(
     for group in pixels.chunks(LANES) {
         // One sampler per pixel, as `render_tile`'s scalar loop.
         samplers.clear();
-        samplers.extend(
-            group
-                .iter()
-                .map(|&(x, y)| Sampler::for_pixel_avx512(x, y, seed)),
-        );
+        samplers.extend(group.iter().map(|&(x, y)| match s.kind {
+            LaneKind::Avx512 => Sampler::for_pixel_avx512(x, y, seed),
+            LaneKind::Avx2 => Sampler::for_pixel(x, y, seed),
+        }));
         #[cfg(target_arch = "x86_64")]
         // SAFETY: `WavefrontScene::new` checked the CPU's features.
         unsafe {
-            let trace = if s.flat_lambert {
-                trace_group::<false>
-            } else {
-                trace_group::<true>
+            let trace = match (s.kind, s.flat_lambert) {
+                (LaneKind::Avx512, true) => trace_group_avx512::<false>,
+                (LaneKind::Avx512, false) => trace_group_avx512::<true>,
+                (LaneKind::Avx2, true) => trace_group_avx2::<false>,
+                (LaneKind::Avx2, false) => trace_group_avx2::<true>,
             };
             trace(
                 s,
