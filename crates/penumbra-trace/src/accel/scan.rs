@@ -43,8 +43,10 @@ pub const MAX_TRIANGLES: usize = 64;
 pub(super) type Lanes = [f32; LANES];
 
 /// Up to [`LANES`] triangles in structure-of-arrays form: corners
-/// (`[corner][axis][lane]`), unit front normals, the triangles' indices
-/// in the scan's input, whether rays that cull back faces pass through
+/// (`[corner][axis][lane]`), unit front normals (read only for the
+/// triangles that cull back faces: zeros in a cluster scan's chunks,
+/// which cull none), the triangles' indices in the scan's input (ids in
+/// a cluster scan's), whether rays that cull back faces pass through
 /// their back and which lanes hold a triangle (bit masks); 64-byte
 /// aligned, so that each array is one aligned load.
 #[derive(Clone, Copy, Debug)]
