@@ -980,25 +980,31 @@ struct Paths {
     camera_hit: B,
 }
 
+/// A group of at most [`LANES`] pixels of a tile and where their
+/// samples go: sample indices `samples` of every pixel of `pixels`, each
+/// with its sampler, onto `tile`; `hits` counts per pixel of the tile
+/// (row length `tile_w`, origin `tile_origin`) the samples whose camera
+/// ray met a surface.
+struct Group<'a> {
+    film: &'a FilmRays,
+    pixels: &'a [(u32, u32)],
+    samplers: &'a mut [Sampler],
+    samples: (u32, u32),
+    tile: &'a mut FilmTile,
+    hits: &'a mut [u32],
+    tile_origin: (u32, u32),
+    tile_w: u32,
+}
+
 /// [`trace_group`] in one AVX-512 register per lane array.
 ///
 /// # Safety
 /// The CPU must support the features it is compiled for.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
-#[allow(clippy::too_many_arguments)]
-unsafe fn trace_group_avx512<const GENERAL: bool>(
-    s: &WavefrontScene,
-    film: &FilmRays,
-    pixels: &[(u32, u32)],
-    samplers: &mut [Sampler],
-    samples: (u32, u32),
-    tile: &mut FilmTile,
-    hits: &mut [u32],
-    rows: ((u32, u32), u32),
-) {
+unsafe fn trace_group_avx512<const GENERAL: bool>(s: &WavefrontScene, g: Group) {
     // SAFETY: the features, as `Avx512` needs.
-    unsafe { trace_group::<Avx512, GENERAL>(s, film, pixels, samplers, samples, tile, hits, rows) }
+    unsafe { trace_group::<Avx512, GENERAL>(s, g) }
 }
 
 /// [`trace_group`] in two AVX2 registers per lane array.
@@ -1007,46 +1013,33 @@ unsafe fn trace_group_avx512<const GENERAL: bool>(
 /// The CPU must support the features it is compiled for.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
-#[allow(clippy::too_many_arguments)]
-unsafe fn trace_group_avx2<const GENERAL: bool>(
-    s: &WavefrontScene,
-    film: &FilmRays,
-    pixels: &[(u32, u32)],
-    samplers: &mut [Sampler],
-    samples: (u32, u32),
-    tile: &mut FilmTile,
-    hits: &mut [u32],
-    rows: ((u32, u32), u32),
-) {
+unsafe fn trace_group_avx2<const GENERAL: bool>(s: &WavefrontScene, g: Group) {
     // SAFETY: the features, as `Avx2` needs.
-    unsafe { trace_group::<Avx2, GENERAL>(s, film, pixels, samplers, samples, tile, hits, rows) }
+    unsafe { trace_group::<Avx2, GENERAL>(s, g) }
 }
 
-/// Sample indices `s0..s1` of every pixel of `pixels` (at most
-/// [`LANES`]), each with its sampler, onto `tile`; `hits` counts per
-/// pixel of the tile (row length `tile_w`, origin `tile_origin`) the
-/// samples whose camera ray met a surface. With `GENERAL` for any scene
-/// in scope, without for flat Lambert surfaces only (see [`segment`]):
-/// two functions, one per kind of scene, so that neither carries the
-/// other's code (a render runs one of them). Compiled once per
-/// [`LaneKind`] ([`trace_group_avx512`], [`trace_group_avx2`]), inlined
-/// into each.
+/// The samples of the group `g` ([`Group`]). With `GENERAL` for any
+/// scene in scope, without for flat Lambert surfaces only (see
+/// [`segment`]): two functions, one per kind of scene, so that neither
+/// carries the other's code (a render runs one of them). Compiled once
+/// per [`LaneKind`] ([`trace_group_avx512`], [`trace_group_avx2`]),
+/// inlined into each.
 ///
 /// # Safety
 /// The CPU must support `S` and the features its entry point is compiled
 /// for (checked by [`WavefrontScene::new`]).
 #[inline(always)]
-#[allow(clippy::too_many_arguments)]
-unsafe fn trace_group<S: Simd16, const GENERAL: bool>(
-    s: &WavefrontScene,
-    film: &FilmRays,
-    pixels: &[(u32, u32)],
-    samplers: &mut [Sampler],
-    (s0, s1): (u32, u32),
-    tile: &mut FilmTile,
-    hits: &mut [u32],
-    (tile_origin, tile_w): ((u32, u32), u32),
-) {
+unsafe fn trace_group<S: Simd16, const GENERAL: bool>(s: &WavefrontScene, g: Group) {
+    let Group {
+        film,
+        pixels,
+        samplers,
+        samples: (s0, s1),
+        tile,
+        hits,
+        tile_origin,
+        tile_w,
+    } = g;
     let mut p = Paths {
         live: [false; LANES],
         in_flight: [false; LANES],
@@ -1643,13 +1636,16 @@ pub(crate) fn render_tile(
             };
             trace(
                 s,
-                film,
-                group,
-                &mut samplers,
-                (s0, s1),
-                tile,
-                hits,
-                ((x0, y0), w),
+                Group {
+                    film,
+                    pixels: group,
+                    samplers: &mut samplers,
+                    samples: (s0, s1),
+                    tile: &mut *tile,
+                    hits: &mut *hits,
+                    tile_origin: (x0, y0),
+                    tile_w: w,
+                },
             );
         }
     }
