@@ -2,12 +2,11 @@
 //! sixteen triangles per AVX-512 instruction (or two AVX2 ones), in a
 //! tree of fixed shape: clusters of up to sixteen chunks of up to sixteen
 //! triangles (the scan's chunks, `scan.rs`), each with its padded bounds,
-//! clusters in
-//! one or two groups of sixteen. A ray tests a group's sixteen clusters'
-//! bounds at once (the nearer group first), enters the clusters it passes
-//! nearest first, tests their sixteen chunks' bounds at once, and the
-//! chunks it passes nearest first, until the next box begins beyond the
-//! closest hit so far. For objects of a few thousand triangles (the
+//! clusters in one or two groups of sixteen. A ray tests a group's sixteen
+//! clusters' bounds at once (the nearer group first), enters the clusters
+//! it passes nearest first, tests their sixteen chunks' bounds at once, and
+//! the chunks it passes nearest first, until the next box begins beyond
+//! the closest hit so far. For objects of a few thousand triangles (the
 //! spheres of the glass and metal scenes: 1,280 and 5,120), where the
 //! 8-wide BVH's walk spends more in its steps than in its tests.
 //!

@@ -42,7 +42,7 @@
 //!
 //! One of the crate's modules with `unsafe` code: the entry points
 //! compiled for AVX-512 and AVX2, the attribute reads (register permutes,
-//! gathers) and table reads without bounds checks (a checked read's
+//! gathers, 8 × 8 transposes) and table reads without bounds checks (a checked read's
 //! branch would keep a lane loop from vectorising).
 #![allow(unsafe_code)]
 // Lane loops index several structure-of-arrays fields by lane: the form
@@ -268,6 +268,7 @@ impl Tables {
             let blocks = which.iter().fold(0u8, |m, &a| m | (1 << (a / 8)));
             for half in 0..2 {
                 for block in (0..ROW / 8).filter(|b| blocks & (1 << b) != 0) {
+                    // SAFETY: AVX2 (the caller's contract).
                     let mut r = [unsafe { _mm256_setzero_ps() }; 8];
                     for (j, r) in r.iter_mut().enumerate() {
                         // SAFETY: AVX2 (the caller's contract); `index <
