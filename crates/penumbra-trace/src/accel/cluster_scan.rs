@@ -270,7 +270,7 @@ impl ClusterScan {
                             &self.chunks[self.first_chunk[c] + chunks.trailing_zeros() as usize];
                         chunks &= chunks - 1;
                         let e = TriangleScan::edges::<S>(chunk, ray, tmax);
-                        if chunk.used & accepts::<S>(&e, vtmax) != 0 {
+                        if S::bits(accepts::<S>(&e, vtmax)) != 0 {
                             return true;
                         }
                     }
@@ -367,7 +367,7 @@ unsafe fn chunk_closest<S: Simd16>(
     unsafe {
         let vtmax = S::splat(tmax);
         let e = TriangleScan::edges::<S>(chunk, ray, tmax);
-        let ok = chunk.used & accepts::<S>(&e, vtmax);
+        let ok = S::bits(accepts::<S>(&e, vtmax));
         if ok == 0 {
             return None;
         }

@@ -62,6 +62,8 @@ pub(crate) trait Simd16: Copy {
     unsafe fn eq_u32(a: Self::I, b: Self::I) -> Self::M;
     unsafe fn and(a: Self::M, b: Self::M) -> Self::M;
     unsafe fn or(a: Self::M, b: Self::M) -> Self::M;
+    /// `b` and not `a`.
+    unsafe fn and_not(a: Self::M, b: Self::M) -> Self::M;
     /// The lane bits of `m`.
     unsafe fn bits(m: Self::M) -> u16;
     /// The mask of the lane bits `b`.
@@ -174,6 +176,10 @@ impl Simd16 for Avx512 {
     #[inline(always)]
     unsafe fn or(a: u16, b: u16) -> u16 {
         a | b
+    }
+    #[inline(always)]
+    unsafe fn and_not(a: u16, b: u16) -> u16 {
+        !a & b
     }
     #[inline(always)]
     unsafe fn bits(m: u16) -> u16 {
@@ -334,6 +340,10 @@ impl Simd16 for Avx2 {
         unsafe { [_mm256_or_ps(a[0], b[0]), _mm256_or_ps(a[1], b[1])] }
     }
     #[inline(always)]
+    unsafe fn and_not(a: [__m256; 2], b: [__m256; 2]) -> [__m256; 2] {
+        unsafe { [_mm256_andnot_ps(a[0], b[0]), _mm256_andnot_ps(a[1], b[1])] }
+    }
+    #[inline(always)]
     unsafe fn bits(m: [__m256; 2]) -> u16 {
         unsafe { (_mm256_movemask_ps(m[0]) | (_mm256_movemask_ps(m[1]) << 8)) as u16 }
     }
@@ -474,6 +484,10 @@ mod tests {
                 assert_eq!(
                     S::bits(S::or(lt, gt)),
                     expect(&|p, q| p != q && !p.is_nan())
+                );
+                assert_eq!(
+                    S::bits(S::and_not(lt, S::mask(0x0ff0))),
+                    !expect(&|p, q| p < q) & 0x0ff0
                 );
                 let m = (rng.next_f32() * 65536.0) as u16;
                 let blend = S::blend(S::mask(m), a, c);

@@ -48,7 +48,10 @@ pub(super) type Lanes = [f32; LANES];
 /// which cull none), the triangles' indices in the scan's input (ids in
 /// a cluster scan's), whether rays that cull back faces pass through
 /// their back and which lanes hold a triangle (bit masks); 64-byte
-/// aligned, so that each array is one aligned load.
+/// aligned, so that each array is one aligned load. A lane without a
+/// triangle has its three corners at the origin: its edge functions are
+/// x·y − y·x = 0 (or NaN) for every ray, its determinant too, so
+/// [`accepts`] never takes it.
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(64))]
 pub(super) struct Chunk {
@@ -307,7 +310,7 @@ impl TriangleScan {
                 // 1/det within about an ulp: it only ranks the hits (the
                 // chosen one's barycentrics are divided exactly below).
                 let inv = S::recip_fast(e.det);
-                let mut ok = chunk.used & accepts::<S>(&e, vtmax);
+                let mut ok = accepts::<S>(&e, vtmax);
                 if camera {
                     let [nx, ny, nz] = &chunk.normal;
                     let facing = S::add(
@@ -317,11 +320,11 @@ impl TriangleScan {
                         ),
                         S::mul(S::load(nz.as_ptr()), dz),
                     );
-                    let culled = chunk.culls & S::bits(S::gt(facing, S::splat(0.0)));
-                    ok &= !culled;
+                    let culled = S::and(S::mask(chunk.culls), S::gt(facing, S::splat(0.0)));
+                    ok = S::and_not(culled, ok);
                 }
                 let t = S::mul(e.t_scaled, inv);
-                let closer = S::and(S::mask(ok), S::lt(t, near));
+                let closer = S::and(ok, S::lt(t, near));
                 hit_lanes |= S::bits(closer);
                 near = S::blend(closer, near, t);
                 near_index = S::blend_u32(closer, near_index, S::load_u32(chunk.index.as_ptr()));
@@ -375,7 +378,7 @@ impl TriangleScan {
             while todo != 0 {
                 let chunk = self.chunk(todo.trailing_zeros() as usize);
                 todo &= todo - 1;
-                if chunk.used & accepts::<S>(&Self::edges::<S>(chunk, ray, tmax), vtmax) != 0 {
+                if S::bits(accepts::<S>(&Self::edges::<S>(chunk, ray, tmax), vtmax)) != 0 {
                     return true;
                 }
             }
@@ -526,12 +529,15 @@ unsafe fn sheared<S: Simd16>(
 /// The lanes whose edge functions, scaled distance and determinant make a
 /// hit in (0, tmax): one sign for u, v, w, and t = t_scaled / det
 /// compared without dividing, as `WatertightRay::intersect_a` does (it
-/// then also checks t < tmax after its division).
+/// then also checks t < tmax after its division). A mask, not lane bits:
+/// the closest-hit scan blends with it (on AVX2 lane bits cost a
+/// `movemask` per register, and a mask made again from them six more
+/// instructions).
 ///
 /// # Safety
 /// The CPU must support `S`.
 #[inline(always)]
-pub(super) unsafe fn accepts<S: Simd16>(e: &Edges<S>, tmax: S::V) -> u16 {
+pub(super) unsafe fn accepts<S: Simd16>(e: &Edges<S>, tmax: S::V) -> S::M {
     // SAFETY: `S`'s features (the caller's contract).
     unsafe {
         let z = S::splat(0.0);
@@ -547,8 +553,7 @@ pub(super) unsafe fn accepts<S: Simd16>(e: &Edges<S>, tmax: S::V) -> u16 {
             S::and(S::lt(e.det, z), S::lt(e.t_scaled, z)),
             S::gt(e.t_scaled, bound),
         );
-        let mixed = S::bits(S::and(negative, positive));
-        !mixed & S::bits(S::or(ahead, behind))
+        S::and_not(S::and(negative, positive), S::or(ahead, behind))
     }
 }
 
