@@ -661,19 +661,14 @@ impl Tracer {
         let mut tmax = [f32::INFINITY; LANES];
         let mut found = [false; LANES];
         let inv = reciprocals(d);
-        // Each lane's ray as the triangle tests see it, for both parts.
-        // (A loop: `array::from_fn` was not inlined.)
-        let mut rays = [WatertightRay::new(Vec3::ZERO, Vec3::Z); LANES];
-        for (i, ray) in rays.iter_mut().enumerate() {
-            *ray = WatertightRay::new(lane(o, i), lane(d, i));
-        }
+        let mut rays = [None; LANES];
         if let Some((scan, ids)) = &self.scan {
             let chunks = scan.chunks_passed(o, &inv, &tmax);
             for i in 0..LANES {
                 if !live[i] || chunks[i] == 0 {
                     continue;
                 }
-                let ray = &rays[i];
+                let ray = lane_ray(&mut rays, (o, d), i);
                 // SAFETY: `S`'s features (the caller's contract); the scan's
                 // indices are below `ids.len()`.
                 unsafe {
@@ -705,7 +700,7 @@ impl Tracer {
                         // SAFETY: the BVH's indices are below `ids.len()`.
                         .map(|h| (unsafe { at(ids, h.triangle as usize) }, h.b1, h.b2)),
                     PartSearch::Objects(scans) => {
-                        let ray = &rays[i];
+                        let ray = lane_ray(&mut rays, (o, d), i);
                         let (oi, inv_i) = (lane(o, i), lane(&inv, i));
                         let (mut hit, mut todo) = (None, passed[i]);
                         while todo != 0 {
@@ -749,15 +744,16 @@ impl Tracer {
     ) {
         let lane = |v: &[F; 3], i: usize| Vec3::new(v[0][i], v[1][i], v[2][i]);
         let inv = reciprocals(d);
+        let mut rays = [None; LANES];
         if let Some((scan, _)) = &self.scan {
             let chunks = scan.chunks_passed(o, &inv, tmax);
             for i in 0..LANES {
                 if !shadow[i] || chunks[i] == 0 {
                     continue;
                 }
-                let ray = WatertightRay::new(lane(o, i), lane(d, i));
+                let ray = lane_ray(&mut rays, (o, d), i);
                 // SAFETY: `S`'s features (the caller's contract).
-                shadow[i] = !unsafe { scan.occluded::<S>(&ray, tmax[i], chunks[i]) };
+                shadow[i] = !unsafe { scan.occluded::<S>(ray, tmax[i], chunks[i]) };
             }
         }
         if let Some(part) = &self.bvh {
@@ -771,7 +767,7 @@ impl Tracer {
                         accel.occluded(&Ray::segment(lane(o, i), lane(d, i), tmax[i]))
                     }
                     PartSearch::Objects(scans) => {
-                        let ray = &WatertightRay::new(lane(o, i), lane(d, i));
+                        let ray = lane_ray(&mut rays, (o, d), i);
                         let (oi, inv_i) = (lane(o, i), lane(&inv, i));
                         // (A loop, not a closure: the intrinsics would
                         // not be inlined into one.)
@@ -943,6 +939,22 @@ impl WavefrontScene {
             max_depth: settings.max_depth,
         })
     }
+}
+
+/// Lane `i`'s ray `o + t d` as the triangle tests see it, made when a
+/// test first needs it: a lane may meet both parts, one or none.
+#[inline(always)]
+fn lane_ray<'r>(
+    rays: &'r mut [Option<WatertightRay>; LANES],
+    (o, d): (&[F; 3], &[F; 3]),
+    i: usize,
+) -> &'r WatertightRay {
+    rays[i].get_or_insert_with(|| {
+        WatertightRay::new(
+            Vec3::new(o[0][i], o[1][i], o[2][i]),
+            Vec3::new(d[0][i], d[1][i], d[2][i]),
+        )
+    })
 }
 
 /// Reads `v[k]` without a bounds check.
