@@ -657,7 +657,6 @@ impl Tracer {
         tri: &mut [u32; LANES],
         bary: &mut [F; 2],
     ) {
-        let lane = |v: &[F; 3], i: usize| Vec3::new(v[0][i], v[1][i], v[2][i]);
         let mut tmax = [f32::INFINITY; LANES];
         let mut found = [false; LANES];
         let inv = reciprocals(d);
@@ -673,7 +672,7 @@ impl Tracer {
                 // indices are below `ids.len()`.
                 unsafe {
                     if let Some((k, h)) =
-                        scan.closest::<S>(ray, lane(d, i), tmax[i], camera[i], chunks[i])
+                        scan.closest::<S>(ray, lane3(d, i), tmax[i], camera[i], chunks[i])
                     {
                         tmax[i] = h.t;
                         // (No map where the scan holds every triangle.)
@@ -696,12 +695,12 @@ impl Tracer {
                 }
                 let hit = match &part.search {
                     PartSearch::Tree(accel, ids) => accel
-                        .intersect(&Ray::segment(lane(o, i), lane(d, i), tmax[i]))
+                        .intersect(&Ray::segment(lane3(o, i), lane3(d, i), tmax[i]))
                         // SAFETY: the BVH's indices are below `ids.len()`.
                         .map(|h| (unsafe { at(ids, h.triangle as usize) }, h.b1, h.b2)),
                     PartSearch::Objects(scans) => {
                         let ray = lane_ray(&mut rays, (o, d), i);
-                        let (oi, inv_i) = (lane(o, i), lane(&inv, i));
+                        let (oi, inv_i) = (lane3(o, i), lane3(&inv, i));
                         let (mut hit, mut todo) = (None, passed[i]);
                         while todo != 0 {
                             let scan = &scans[todo.trailing_zeros() as usize];
@@ -742,7 +741,6 @@ impl Tracer {
         leaves: &[u32; LANES],
         shadow: &mut B,
     ) {
-        let lane = |v: &[F; 3], i: usize| Vec3::new(v[0][i], v[1][i], v[2][i]);
         let inv = reciprocals(d);
         let mut rays = [None; LANES];
         if let Some((scan, _)) = &self.scan {
@@ -764,11 +762,11 @@ impl Tracer {
                 }
                 shadow[i] = !match &part.search {
                     PartSearch::Tree(accel, _) => {
-                        accel.occluded(&Ray::segment(lane(o, i), lane(d, i), tmax[i]))
+                        accel.occluded(&Ray::segment(lane3(o, i), lane3(d, i), tmax[i]))
                     }
                     PartSearch::Objects(scans) => {
                         let ray = lane_ray(&mut rays, (o, d), i);
-                        let (oi, inv_i) = (lane(o, i), lane(&inv, i));
+                        let (oi, inv_i) = (lane3(o, i), lane3(&inv, i));
                         // (A loop, not a closure: the intrinsics would
                         // not be inlined into one.)
                         let (mut blocked, mut todo) = (false, passed[i]);
@@ -949,12 +947,13 @@ fn lane_ray<'r>(
     (o, d): (&[F; 3], &[F; 3]),
     i: usize,
 ) -> &'r WatertightRay {
-    rays[i].get_or_insert_with(|| {
-        WatertightRay::new(
-            Vec3::new(o[0][i], o[1][i], o[2][i]),
-            Vec3::new(d[0][i], d[1][i], d[2][i]),
-        )
-    })
+    rays[i].get_or_insert_with(|| WatertightRay::new(lane3(o, i), lane3(d, i)))
+}
+
+/// Lane `i` of three lanes' arrays (x, y, z) as a vector.
+#[inline(always)]
+fn lane3(v: &[F; 3], i: usize) -> Vec3 {
+    Vec3::new(v[0][i], v[1][i], v[2][i])
 }
 
 /// Reads `v[k]` without a bounds check.
@@ -1079,7 +1078,7 @@ unsafe fn trace_group<S: Simd16, const GENERAL: bool>(s: &WavefrontScene, g: Gro
         for i in 0..pixels.len() {
             let (x, y) = pixels[i];
             if p.in_flight[i] && !p.live[i] {
-                let v = Vec3::new(p.radiance[0][i], p.radiance[1][i], p.radiance[2][i]);
+                let v = lane3(&p.radiance, i);
                 // As `render_tile`: one bad sample must not ruin a pixel.
                 tile.add_sample(x, y, if v.is_finite() { v } else { Vec3::ZERO });
                 if p.camera_hit[i] {
@@ -1421,8 +1420,8 @@ fn segment<S: Simd16, const GENERAL: bool>(
         for i in 0..LANES {
             if shadow[i] & shared[i] {
                 let bsdf = seen_from(shared_material(s, g[SHARED][i]), back_side[i]);
-                let wl = Vec3::new(wi_local[0][i], wi_local[1][i], wi_local[2][i]);
-                let wo = Vec3::new(wo_local[0][i], wo_local[1][i], wo_local[2][i]);
+                let wl = lane3(&wi_local, i);
+                let wo = lane3(&wo_local, i);
                 let f = bsdf.eval(wo, wl);
                 shadow[i] = f != Vec3::ZERO;
                 let pdf = light_pdf[i];
@@ -1471,7 +1470,7 @@ fn segment<S: Simd16, const GENERAL: bool>(
         for i in 0..LANES {
             if shared[i] & p.live[i] {
                 let bsdf = seen_from(shared_material(s, g[SHARED][i]), back_side[i]);
-                let wo = Vec3::new(wo_local[0][i], wo_local[1][i], wo_local[2][i]);
+                let wo = lane3(&wo_local, i);
                 if let Some(bs) = bsdf.sample(wo, u_lobe[i], [u_bsdf[0][i], u_bsdf[1][i]]) {
                     for a in 0..3 {
                         shared_dir[a][i] = bs.wi[a];
@@ -1557,7 +1556,7 @@ fn segment<S: Simd16, const GENERAL: bool>(
         };
         p.eta_scale[i] = p.eta_scale[i] * crossed * crossed;
         let q = if p.depth[i] > RR_START_DEPTH {
-            let beta = Vec3::new(p.beta[0][i], p.beta[1][i], p.beta[2][i]);
+            let beta = lane3(&p.beta, i);
             rr_survival(beta, p.eta_scale[i])
         } else {
             1.0
