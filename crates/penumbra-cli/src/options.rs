@@ -9,6 +9,15 @@ use std::path::Path;
 /// Largest image edge accepted.
 pub const MAX_EDGE: u32 = 65_536;
 
+/// Whether the environment variable `PENUMBRA_SCALAR_PATHS` (set, not
+/// empty, not `0`) asks for the scalar path tracer where the 16-lane one
+/// applies (`RenderOptions::scalar_paths`: the benchmark scripts'
+/// baseline). Read here, not in the library, whose callers and tests say
+/// what they want in the options alone.
+pub fn scalar_paths_requested() -> bool {
+    std::env::var_os("PENUMBRA_SCALAR_PATHS").is_some_and(|v| !v.is_empty() && v != "0")
+}
+
 /// Parses `WxH` (e.g. `1920x1080`).
 pub fn parse_resolution(s: &str) -> Result<(u32, u32), String> {
     let (w, h) = s

@@ -589,6 +589,44 @@ fn raster_bench_reports_each_pass_per_light_count() {
     assert!(stderr(&o).contains("--engine trace only"), "{}", stderr(&o));
 }
 
+/// `PENUMBRA_SCALAR_PATHS=1` (the benchmark scripts' baseline) keeps the
+/// scalar path tracer where the 16-lane one applies, `0` or nothing does
+/// not; the render line says which ran. (The library itself reads no
+/// environment: its options alone decide.)
+#[test]
+fn scalar_paths_variable_picks_the_path_tracer() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = cornell_toml();
+    for (value, lanes) in [(Some("1"), false), (Some("0"), true), (None, true)] {
+        let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_penumbra"));
+        command.env_remove("PENUMBRA_SCALAR_PATHS");
+        if let Some(v) = value {
+            command.env("PENUMBRA_SCALAR_PATHS", v);
+        }
+        let o = command
+            .args([
+                "render",
+                &scene,
+                "--spp",
+                "1",
+                "--resolution",
+                "32x32",
+                "-o",
+                "a.exr",
+            ])
+            .current_dir(dir.path())
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", stderr(&o));
+        assert_eq!(
+            stderr(&o).contains("16 paths at a time"),
+            lanes,
+            "PENUMBRA_SCALAR_PATHS={value:?}: {}",
+            stderr(&o)
+        );
+    }
+}
+
 fn cornell_toml() -> String {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("../../scenes/cornell-box.toml")

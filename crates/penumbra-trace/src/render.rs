@@ -98,8 +98,8 @@ pub struct RenderOptions<'a> {
     pub target_rel_mse: Option<f64>,
     /// Trace paths one at a time even where the wavefront integrator
     /// (sixteen paths at a time, `integrator/wavefront.rs`) applies, for
-    /// comparisons; the environment variable `PENUMBRA_SCALAR_PATHS=1`
-    /// does the same.
+    /// comparisons (the command line sets it from the environment
+    /// variable `PENUMBRA_SCALAR_PATHS`).
     pub scalar_paths: bool,
     /// Run the wavefront integrator's sixteen lanes in two AVX2
     /// registers even where the CPU has AVX-512, for comparisons and
@@ -215,9 +215,7 @@ pub fn render(
         camera_cone: RayCone::camera(&camera, h, settings.spp),
     };
     // Sixteen paths at a time where the scene allows (`wavefront.rs`).
-    let scalar_paths = options.scalar_paths
-        || std::env::var_os("PENUMBRA_SCALAR_PATHS").is_some_and(|v| !v.is_empty() && v != "0");
-    let wavefront = (!options.aovs && !scalar_paths)
+    let wavefront = (!options.aovs && !options.scalar_paths)
         .then(|| WavefrontScene::new(scene, &geometry, &lights, settings, options.avx2_paths))
         .flatten();
     let crop = options.crop.clone().unwrap_or(Crop { x: 0..w, y: 0..h });

@@ -485,7 +485,11 @@ fn run_measures(args: &BenchArgs, scene: &Scene, load: Option<Measure>) -> Resul
         settings.spp = args.spp;
         let path = |name, scene: &Scene| {
             let rays = penumbra_trace::stats::rays_traced();
-            let out = render(scene, &settings, &RenderOptions::default())?;
+            let options = RenderOptions {
+                scalar_paths: crate::options::scalar_paths_requested(),
+                ..Default::default()
+            };
+            let out = render(scene, &settings, &options)?;
             anyhow::Ok(Measure {
                 name,
                 seconds: out.render_seconds,

@@ -353,6 +353,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
         resume,
         checkpoint: Some(&checkpoint),
         target_rel_mse: args.parts.target_relmse,
+        scalar_paths: crate::options::scalar_paths_requested(),
         ..Default::default()
     };
     let out = pool.install(|| render(&scene, &settings, &options))?;

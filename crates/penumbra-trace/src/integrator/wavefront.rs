@@ -27,9 +27,9 @@
 //! triangles only (no environment, abstract or analytic area lights); an
 //! x86-64 CPU with AVX2 (the lanes run in one AVX-512 register where the
 //! CPU has AVX-512, else in two AVX2 ones: [`LaneKind`],
-//! `accel/lanes16.rs`). `PENUMBRA_SCALAR_PATHS=1` (or
-//! [`crate::RenderOptions::scalar_paths`]) keeps the scalar integrator for
-//! comparisons.
+//! `accel/lanes16.rs`). [`crate::RenderOptions::scalar_paths`] (on the
+//! command line `PENUMBRA_SCALAR_PATHS=1`) keeps the scalar integrator
+//! for comparisons.
 //!
 //! Rays meet the scene in two parts ([`Tracer`]): the smallest objects, up
 //! to [`scan::MAX_TRIANGLES`] triangles in all, are tested triangle by
