@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{expect_failures, files_in, penumbra, stderr};
+use common::{expect_failures, files_in, penumbra, penumbra_with_var, stderr};
 use std::path::PathBuf;
 
 fn reference(scene: &str, file: &str) -> String {
@@ -598,25 +598,17 @@ fn scalar_paths_variable_picks_the_path_tracer() {
     let dir = tempfile::tempdir().unwrap();
     let scene = cornell_toml();
     for (value, lanes) in [(Some("1"), false), (Some("0"), true), (None, true)] {
-        let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_penumbra"));
-        command.env_remove("PENUMBRA_SCALAR_PATHS");
-        if let Some(v) = value {
-            command.env("PENUMBRA_SCALAR_PATHS", v);
-        }
-        let o = command
-            .args([
-                "render",
-                &scene,
-                "--spp",
-                "1",
-                "--resolution",
-                "32x32",
-                "-o",
-                "a.exr",
-            ])
-            .current_dir(dir.path())
-            .output()
-            .unwrap();
+        let args = [
+            "render",
+            &scene,
+            "--spp",
+            "1",
+            "--resolution",
+            "32x32",
+            "-o",
+            "a.exr",
+        ];
+        let o = penumbra_with_var(&args, dir.path(), "PENUMBRA_SCALAR_PATHS", value);
         assert!(o.status.success(), "{}", stderr(&o));
         assert_eq!(
             stderr(&o).contains("16 paths at a time"),

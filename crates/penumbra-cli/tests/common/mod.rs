@@ -7,11 +7,24 @@ use std::process::{Command, Output};
 
 /// Runs `penumbra ARGS` in `dir`.
 pub fn penumbra(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_penumbra"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("run penumbra")
+    command(args, dir).output().expect("run penumbra")
+}
+
+/// Runs `penumbra ARGS` in `dir` with the environment variable `var` set
+/// to `value`, or removed where `value` is `None`.
+pub fn penumbra_with_var(args: &[&str], dir: &Path, var: &str, value: Option<&str>) -> Output {
+    let mut c = command(args, dir);
+    match value {
+        Some(v) => c.env(var, v),
+        None => c.env_remove(var),
+    };
+    c.output().expect("run penumbra")
+}
+
+fn command(args: &[&str], dir: &Path) -> Command {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_penumbra"));
+    c.args(args).current_dir(dir);
+    c
 }
 
 pub fn stderr(o: &Output) -> String {
