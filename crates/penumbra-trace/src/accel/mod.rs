@@ -28,6 +28,7 @@ use block::{LANES, TriangleBlock};
 use glam::{Vec3, Vec3A};
 use obvhs::BvhBuildParams;
 use obvhs::aabb::Aabb;
+use rayon::prelude::*;
 use std::time::Duration;
 use wide::{LEAF_BIT, LEAF_MAX, Wide, leaf_range};
 
@@ -117,7 +118,7 @@ impl Accel {
         // through a vertex on a box corner must not skip the box, or the
         // watertight triangle test cannot do its job.
         let boxes: Vec<Aabb> = triangles
-            .iter()
+            .par_iter()
             .map(|t| {
                 let (lo, hi) = (t[0].min(t[1]).min(t[2]), t[0].max(t[1]).max(t[2]));
                 let pad =
@@ -142,24 +143,28 @@ impl Accel {
         let block_count: usize = wide.leaf_counts().map(|n| n.div_ceil(LANES)).sum();
         let mut blocks = huge_pages::with_capacity(block_count);
         let mut primitive_indices = huge_pages::with_capacity(block_count * LANES);
+        // Each leaf's primitives in whole blocks of lanes (PAD in the
+        // unused ones), in node order...
         wide.renumber_leaves(|first, count| {
-            let start = blocks.len() as u32;
-            for base in (0..count).step_by(LANES) {
-                let mut block = TriangleBlock::EMPTY;
-                for lane in 0..LANES {
-                    let index = if base + lane < count {
-                        let i = leaf_primitives[first + base + lane];
-                        block.set(lane, triangles[i as usize].map(Vec3A::from));
-                        i
-                    } else {
-                        PAD
-                    };
-                    primitive_indices.push(index);
-                }
-                blocks.push(block);
+            let start = (primitive_indices.len() / LANES) as u32;
+            for lanes in leaf_primitives[first..first + count].chunks(LANES) {
+                primitive_indices.extend_from_slice(lanes);
+                primitive_indices.extend(std::iter::repeat_n(PAD, LANES - lanes.len()));
             }
             start
         });
+        // ...then the blocks' triangles gathered from them on every thread,
+        // written in place (an indexed `par_extend` fills the reserved
+        // room). Serial, this was about a tenth of the 1M-triangle build.
+        blocks.par_extend(primitive_indices.par_chunks(LANES).map(|lanes| {
+            let mut block = TriangleBlock::EMPTY;
+            for (lane, &i) in lanes.iter().enumerate() {
+                if i != PAD {
+                    block.set(lane, triangles[i as usize].map(Vec3A::from));
+                }
+            }
+            block
+        }));
         debug_assert_eq!(blocks.len(), block_count, "no regrowth off the huge pages");
         let bytes = wide.nodes.len() * size_of::<wide::Node8>() + size_of_val(&blocks[..]);
         Self {
