@@ -20,6 +20,7 @@ mod traverse;
 mod watertight;
 mod wide;
 
+pub use huge_pages::HugePageAllocator;
 pub use traverse::Kernel;
 pub use watertight::{TriangleHit, WatertightRay};
 
