@@ -10,12 +10,14 @@
 //! 0.67–0.79 against 0.59–0.74 Mrays/s, interleaved 1.11–1.13 against
 //! 0.77–1.04, packets 0.79–0.87 against 0.61–0.81.
 //!
-//!
 //! [`HugePageAllocator`] does the same for every large allocation of a
 //! program that makes it its global allocator, as the `penumbra` command
-//! does: obvhs's build allocates and frees arrays of tens of megabytes
-//! whose first touches, one 4 KB page fault each, were a quarter of the
-//! 1M-triangle build's time on a virtual machine (`perf`, 2026-12-07).
+//! does: obvhs's build allocates and frees arrays of tens of megabytes,
+//! and the page faults of their first touches were a quarter of the
+//! 1M-triangle build's CPU time on a virtual machine (`perf`, 2026-12-07).
+//! With it the build's median fell from 0.93 to 0.87 s there (10 runs
+//! alternating the builds), within that machine's noise; its system time
+//! did not fall (the kernel zeroes the same bytes either way).
 //!
 //! `unsafe` for the `madvise` call (a hint about memory we own) and the
 //! allocator's forwarding to the system's.

@@ -157,6 +157,7 @@ impl Accel {
         // ...then the blocks' triangles gathered from them on every thread,
         // written in place (an indexed `par_extend` fills the reserved
         // room). Serial, this was about a tenth of the 1M-triangle build.
+        let reserved = blocks.as_ptr();
         blocks.par_extend(primitive_indices.par_chunks(LANES).map(|lanes| {
             let mut block = TriangleBlock::EMPTY;
             for (lane, &i) in lanes.iter().enumerate() {
@@ -166,7 +167,8 @@ impl Accel {
             }
             block
         }));
-        debug_assert_eq!(blocks.len(), block_count, "no regrowth off the huge pages");
+        debug_assert_eq!(blocks.len(), block_count);
+        debug_assert_eq!(blocks.as_ptr(), reserved, "no regrowth off the huge pages");
         let bytes = wide.nodes.len() * size_of::<wide::Node8>() + size_of_val(&blocks[..]);
         Self {
             wide,
