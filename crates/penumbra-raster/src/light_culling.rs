@@ -11,6 +11,7 @@ use crate::gpu::{GpuCulling, GpuLight, LIGHT_DIRECTIONAL, TILE_OVERFLOW};
 use crate::scene_gpu::{buffer_init, storage_entry, uniform_entry, whole};
 use crate::shaders::light_culling_source;
 use glam::Mat4;
+use std::sync::OnceLock;
 
 /// Tile edge in pixels (WGSL `TILE`).
 pub const TILE: u32 = 16;
@@ -20,11 +21,13 @@ pub const MAX_LIGHTS_PER_TILE: u32 = 512;
 /// culling is off and every pixel shades every light.
 pub const MAX_CULLED_LIGHTS: u32 = 256 * 32;
 
-/// The culling pipeline for one depth sample count.
+/// The culling pipeline for one depth sample count, made when a frame first
+/// culls (frames with stencil shadows never do).
 #[derive(Debug)]
 pub(crate) struct LightCulling {
-    pipeline: wgpu::ComputePipeline,
-    layout: wgpu::BindGroupLayout,
+    samples: u32,
+    /// The bind group layout and the pipeline.
+    pipeline: OnceLock<(wgpu::BindGroupLayout, wgpu::ComputePipeline)>,
 }
 
 /// One frame's culling resources.
@@ -72,7 +75,19 @@ pub fn light_spheres(view: Mat4, lights: &[GpuLight]) -> Vec<[f32; 4]> {
 }
 
 impl LightCulling {
-    pub fn new(device: &wgpu::Device, samples: u32) -> Self {
+    pub fn new(samples: u32) -> Self {
+        Self {
+            samples,
+            pipeline: OnceLock::new(),
+        }
+    }
+
+    fn pipeline(&self, device: &wgpu::Device) -> &(wgpu::BindGroupLayout, wgpu::ComputePipeline) {
+        self.pipeline.get_or_init(|| self.build(device))
+    }
+
+    fn build(&self, device: &wgpu::Device) -> (wgpu::BindGroupLayout, wgpu::ComputePipeline) {
+        let samples = self.samples;
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("light culling"),
             source: wgpu::ShaderSource::Wgsl(light_culling_source(samples > 1).into()),
@@ -113,7 +128,7 @@ impl LightCulling {
             },
             cache: None,
         });
-        Self { pipeline, layout }
+        (layout, pipeline)
     }
 
     /// The frame's uniform, sphere and tile buffers. `enabled` = false (or
@@ -245,9 +260,10 @@ impl LightCulling {
         if frame.uniform.enabled == 0 {
             return;
         }
+        let (layout, pipeline) = self.pipeline(device);
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("light culling"),
-            layout: &self.layout,
+            layout,
             entries: &[
                 whole(0, &frame.uniform_buffer),
                 whole(1, &frame.spheres),
@@ -262,7 +278,7 @@ impl LightCulling {
             label: Some("light culling"),
             timestamp_writes: timer.compute_pass("light culling"),
         });
-        pass.set_pipeline(&self.pipeline);
+        pass.set_pipeline(pipeline);
         pass.set_bind_group(0, &bind_group, &[]);
         pass.dispatch_workgroups(frame.uniform.tiles_x, frame.uniform.tiles_y, 1);
     }

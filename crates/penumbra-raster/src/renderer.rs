@@ -42,7 +42,7 @@ use penumbra_image::Image;
 use penumbra_scene::Scene;
 use penumbra_scene::camera::Camera;
 use std::collections::HashMap;
-use std::sync::{Arc, Mutex};
+use std::sync::{Arc, Mutex, OnceLock};
 use std::time::Instant;
 
 const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
@@ -260,13 +260,23 @@ struct ShadingKey {
     baked: bool,
 }
 
+/// The shading passes: opaque materials with every light (`fs_forward`),
+/// BLEND materials source-over (`fs_blend`), one light added where the
+/// stencil says lit (`fs_light`).
+#[derive(Clone, Copy, Debug)]
+enum ShadingPass {
+    Forward,
+    Blend,
+    Light,
+}
+
 /// The shading pipelines of one [`ShadingKey`].
 #[derive(Debug)]
 struct ShadingPipelines {
-    forward: wgpu::RenderPipeline,
-    /// BLEND materials, source-over (`fs_blend`).
-    blend: wgpu::RenderPipeline,
-    light: wgpu::RenderPipeline,
+    /// The key's values of the module's `override` constants.
+    constants: Vec<(&'static str, f64)>,
+    /// By [`ShadingPass`], each made on first use.
+    pipelines: [OnceLock<wgpu::RenderPipeline>; 3],
 }
 
 /// The raster pipelines for one set of options.
@@ -275,17 +285,22 @@ pub struct ForwardRenderer {
     layout: wgpu::BindGroupLayout,
     params_layout: wgpu::BindGroupLayout,
     depth_pipeline: wgpu::RenderPipeline,
+    // The pipelines below are built when a frame first needs them (each is
+    // a shader compilation in the driver, and most frames need few of them).
     /// The prepass of scenes with culled back faces, without AO (the AO
     /// prepass discards them itself).
-    depth_discarding_pipeline: Option<wgpu::RenderPipeline>,
-    base_pipeline: wgpu::RenderPipeline,
+    depth_discarding_pipeline: OnceLock<wgpu::RenderPipeline>,
+    /// Emission and ambient light (the first pass of stencil shadows).
+    base_pipeline: OnceLock<wgpu::RenderPipeline>,
     /// Draws the environment map where no geometry is.
-    background_pipeline: wgpu::RenderPipeline,
-    shadow_pipeline: wgpu::RenderPipeline,
-    masked_shadow_pipeline: wgpu::RenderPipeline,
-    /// The forward module and layout, for the specialised pipelines.
+    background_pipeline: OnceLock<wgpu::RenderPipeline>,
+    shadow_pipeline: OnceLock<wgpu::RenderPipeline>,
+    /// Shadow maps of scenes with alpha masks.
+    masked_shadow_pipeline: OnceLock<wgpu::RenderPipeline>,
+    /// The forward module and layouts, for the pipelines made on first use.
     module: wgpu::ShaderModule,
     pipeline_layout: wgpu::PipelineLayout,
+    shadow_pipeline_layout: wgpu::PipelineLayout,
     light_stencil: wgpu::StencilState,
     /// Forward and one-light pipelines by (material-model mask, bakes),
     /// made on first use.
@@ -293,7 +308,7 @@ pub struct ForwardRenderer {
     /// Group 2: the baked maps.
     bake_layout: wgpu::BindGroupLayout,
     /// Writes the looked-up bake values (`ao`, `irradiance`) as AOVs.
-    bake_aov_pipeline: wgpu::RenderPipeline,
+    bake_aov_pipeline: OnceLock<wgpu::RenderPipeline>,
     shadow_layout: wgpu::BindGroupLayout,
     shadow_sampler: wgpu::Sampler,
     culling: LightCulling,
@@ -544,138 +559,35 @@ impl ForwardRenderer {
             bind_group_layouts: &[Some(&layout), Some(&params_layout), Some(&bake_layout)],
             immediate_size: 0,
         });
-        let position_only = [Some(vec3_buffer(0))];
-        let greater_equal = wgpu::CompareFunction::GreaterEqual;
-        // Shadow maps: depth only, no culling (open meshes and single quads
-        // cast too); reversed depth, so the bias is negative: it moves the
-        // stored depth away from the light by `slope_bias` times the
-        // triangle's depth slope, plus a few units of the format's precision.
-        let shadow_spec = |label, vs, fs| PipelineSpec {
-            label,
-            vs,
-            fs,
-            buffers: &position_only,
-            depth: wgpu::DepthStencilState {
-                bias: wgpu::DepthBiasState {
-                    constant: -SHADOW_CONSTANT_BIAS,
-                    slope_scale: -options.slope_bias,
-                    clamp: 0.0,
-                },
-                ..depth_state(
-                    true,
-                    wgpu::CompareFunction::Greater,
-                    Default::default(),
-                    SHADOW_MAP_FORMAT,
-                )
-            },
-            blend: None,
-            samples: 1,
-            constants: &[],
-            color: false,
-        };
-        let shadow_build = |spec| build_pipeline(device, &module, &shadow_pipeline_layout, spec);
-        let shadow_pipeline = shadow_build(shadow_spec("shadow map", "vs_shadow", None));
-        // Scenes with alpha masks: a fragment stage that discards the
-        // masked-out fragments, so masks cast the shadows they cut out.
-        let masked_shadow_pipeline = shadow_build(shadow_spec(
-            "shadow map (alpha masks)",
-            "vs_shadow_masked",
-            Some("fs_shadow_masked"),
-        ));
-        // With screen-space AO the prepass also writes the normal target
-        // (the same @invariant clip positions as vs_depth).
-        let with_normals = [Some(vec3_buffer(0)), Some(vec3_buffer(1))];
         let ao_on = options.ao.enabled();
-        // The prepass: depth written, nearer (reversed depth) wins.
-        let prepass = |label, vs, fs, buffers, color| {
-            build_pipeline(
-                device,
-                &module,
-                &pipeline_layout,
-                PipelineSpec {
-                    label,
-                    vs,
-                    fs,
-                    buffers,
-                    depth: depth_state(
-                        true,
-                        wgpu::CompareFunction::Greater,
-                        Default::default(),
-                        depth_format,
-                    ),
-                    blend: None,
-                    samples: msaa,
-                    constants: &[],
-                    color,
-                },
-            )
-        };
+        // The prepass (every frame runs it): depth written, nearer
+        // (reversed depth) wins; with screen-space AO it also writes the
+        // normal target (the same @invariant clip positions as vs_depth).
         let depth_pipeline = if ao_on {
-            prepass(
+            let with_normals = [Some(vec3_buffer(0)), Some(vec3_buffer(1))];
+            let spec = prepass_spec(
                 "depth prepass",
                 "vs_main",
                 Some("fs_ao_prepass"),
                 &with_normals,
                 true,
-            )
+                depth_format,
+                msaa,
+            );
+            build_pipeline(device, &module, &pipeline_layout, spec)
         } else {
-            prepass("depth prepass", "vs_depth", None, &position_only, true)
-        };
-        // Scenes with culled back faces (glTF doubleSided: false) or alpha
-        // masks: a prepass that discards them (the AO prepass always checks).
-        let depth_discarding_pipeline = (!ao_on).then(|| {
-            prepass(
-                "depth prepass (culled back faces, alpha masks)",
-                "vs_depth_discarding",
-                Some("fs_depth_discarding"),
+            let position_only = [Some(vec3_buffer(0))];
+            let spec = prepass_spec(
+                "depth prepass",
+                "vs_depth",
+                None,
                 &position_only,
-                false,
-            )
-        });
-        // Emission and ambient light only: no material model needed.
-        let base_pipeline = build_pipeline(
-            device,
-            &module,
-            &pipeline_layout,
-            PipelineSpec {
-                label: "base",
-                vs: "vs_main",
-                fs: Some("fs_base"),
-                buffers: &[Some(vec3_buffer(0)), Some(vec3_buffer(1))],
-                depth: depth_state(false, greater_equal, Default::default(), depth_format),
-                blend: None,
-                samples: msaa,
-                constants: &[
-                    ("MATERIAL_MODELS", 0.0),
-                    ("SHADOW_MAPS", 0.0),
-                    ("SCREEN_AO", ao_on as u32 as f64),
-                    ("ENV_LOBE_TAPS", options.environment_taps as f64),
-                ],
-                color: true,
-            },
-        );
-        // The environment map where the prepass left the far plane (0).
-        let background_pipeline = build_pipeline(
-            device,
-            &module,
-            &pipeline_layout,
-            PipelineSpec {
-                label: "background",
-                vs: "vs_background",
-                fs: Some("fs_background"),
-                buffers: &[],
-                depth: depth_state(
-                    false,
-                    wgpu::CompareFunction::Equal,
-                    Default::default(),
-                    depth_format,
-                ),
-                blend: None,
-                samples: msaa,
-                constants: &[("MATERIAL_MODELS", 0.0), ("SHADOW_MAPS", 0.0)],
-                color: true,
-            },
-        );
+                true,
+                depth_format,
+                msaa,
+            );
+            build_pipeline(device, &module, &pipeline_layout, spec)
+        };
         // One light, added where the stencil is 0 (shadow volumes: count 0;
         // planar shadows: top bit clear).
         let read_mask = if options.shadows == ShadowMode::Planar {
@@ -711,13 +623,6 @@ impl ForwardRenderer {
             compare: Some(wgpu::CompareFunction::GreaterEqual),
             ..Default::default()
         });
-        let bake_aov_pipeline = bake_aov_pipeline(
-            device,
-            &module,
-            &pipeline_layout,
-            depth_state(false, greater_equal, Default::default(), depth_format),
-            msaa,
-        );
         let volumes = (options.shadows == ShadowMode::Volume)
             .then(|| ShadowVolumes::new(device, &params_layout, depth_format, msaa));
         let planar = (options.shadows == ShadowMode::Planar)
@@ -726,20 +631,21 @@ impl ForwardRenderer {
             layout,
             params_layout,
             depth_pipeline,
-            depth_discarding_pipeline,
-            base_pipeline,
-            background_pipeline,
-            shadow_pipeline,
-            masked_shadow_pipeline,
+            depth_discarding_pipeline: OnceLock::new(),
+            base_pipeline: OnceLock::new(),
+            background_pipeline: OnceLock::new(),
+            shadow_pipeline: OnceLock::new(),
+            masked_shadow_pipeline: OnceLock::new(),
             module,
             pipeline_layout,
+            shadow_pipeline_layout,
             light_stencil,
             shading: Mutex::new(HashMap::new()),
             bake_layout,
-            bake_aov_pipeline,
+            bake_aov_pipeline: OnceLock::new(),
             shadow_layout,
             shadow_sampler,
-            culling: LightCulling::new(device, msaa),
+            culling: LightCulling::new(msaa),
             volumes,
             planar,
             depth_format,
@@ -756,9 +662,137 @@ impl ForwardRenderer {
         })
     }
 
-    /// The forward, blend and one-light pipelines of `key`, made once per
-    /// key.
-    fn shading_pipelines(&self, device: &wgpu::Device, key: ShadingKey) -> Arc<ShadingPipelines> {
+    /// The shadow-map pipeline (with a fragment stage that discards the
+    /// masked-out fragments where `masked`, so alpha masks cast the shadows
+    /// they cut out): depth only, no culling (open meshes and single quads
+    /// cast too); reversed depth, so the bias is negative: it moves the
+    /// stored depth away from the light by `slope_bias` times the
+    /// triangle's depth slope, plus a few units of the format's precision.
+    fn shadow_map_pipeline(&self, device: &wgpu::Device, masked: bool) -> &wgpu::RenderPipeline {
+        let (cell, label, vs, fs) = if masked {
+            let fs = Some("fs_shadow_masked");
+            let label = "shadow map (alpha masks)";
+            (&self.masked_shadow_pipeline, label, "vs_shadow_masked", fs)
+        } else {
+            (&self.shadow_pipeline, "shadow map", "vs_shadow", None)
+        };
+        cell.get_or_init(|| {
+            let spec = PipelineSpec {
+                label,
+                vs,
+                fs,
+                buffers: &[Some(vec3_buffer(0))],
+                depth: wgpu::DepthStencilState {
+                    bias: wgpu::DepthBiasState {
+                        constant: -SHADOW_CONSTANT_BIAS,
+                        slope_scale: -self.options.slope_bias,
+                        clamp: 0.0,
+                    },
+                    ..depth_state(
+                        true,
+                        wgpu::CompareFunction::Greater,
+                        Default::default(),
+                        SHADOW_MAP_FORMAT,
+                    )
+                },
+                blend: None,
+                samples: 1,
+                constants: &[],
+                color: false,
+            };
+            build_pipeline(device, &self.module, &self.shadow_pipeline_layout, spec)
+        })
+    }
+
+    /// The prepass of the frame: the one that discards culled back faces
+    /// and alpha masks where the scene has them (`culls`) and screen-space
+    /// AO is off (its prepass always checks), else the plain one.
+    fn prepass_pipeline(&self, device: &wgpu::Device, culls: bool) -> &wgpu::RenderPipeline {
+        if !culls || self.ao.is_some() {
+            return &self.depth_pipeline;
+        }
+        self.depth_discarding_pipeline.get_or_init(|| {
+            let position_only = [Some(vec3_buffer(0))];
+            let spec = prepass_spec(
+                "depth prepass (culled back faces, alpha masks)",
+                "vs_depth_discarding",
+                Some("fs_depth_discarding"),
+                &position_only,
+                false,
+                self.depth_format,
+                self.options.msaa,
+            );
+            build_pipeline(device, &self.module, &self.pipeline_layout, spec)
+        })
+    }
+
+    /// Emission and ambient light only: no material model needed.
+    fn base_pipeline(&self, device: &wgpu::Device) -> &wgpu::RenderPipeline {
+        self.base_pipeline.get_or_init(|| {
+            let spec = PipelineSpec {
+                label: "base",
+                vs: "vs_main",
+                fs: Some("fs_base"),
+                buffers: &[Some(vec3_buffer(0)), Some(vec3_buffer(1))],
+                depth: self.shading_depth(wgpu::CompareFunction::GreaterEqual, Default::default()),
+                blend: None,
+                samples: self.options.msaa,
+                constants: &[
+                    ("MATERIAL_MODELS", 0.0),
+                    ("SHADOW_MAPS", 0.0),
+                    ("SCREEN_AO", self.ao.is_some() as u32 as f64),
+                    ("ENV_LOBE_TAPS", self.options.environment_taps as f64),
+                ],
+                color: true,
+            };
+            build_pipeline(device, &self.module, &self.pipeline_layout, spec)
+        })
+    }
+
+    /// The environment map where the prepass left the far plane (0).
+    fn background_pipeline(&self, device: &wgpu::Device) -> &wgpu::RenderPipeline {
+        self.background_pipeline.get_or_init(|| {
+            let spec = PipelineSpec {
+                label: "background",
+                vs: "vs_background",
+                fs: Some("fs_background"),
+                buffers: &[],
+                depth: self.shading_depth(wgpu::CompareFunction::Equal, Default::default()),
+                blend: None,
+                samples: self.options.msaa,
+                constants: &[("MATERIAL_MODELS", 0.0), ("SHADOW_MAPS", 0.0)],
+                color: true,
+            };
+            build_pipeline(device, &self.module, &self.pipeline_layout, spec)
+        })
+    }
+
+    fn bake_aov_pipeline(&self, device: &wgpu::Device) -> &wgpu::RenderPipeline {
+        self.bake_aov_pipeline.get_or_init(|| {
+            let depth = self.shading_depth(wgpu::CompareFunction::GreaterEqual, Default::default());
+            bake_aov_pipeline(
+                device,
+                &self.module,
+                &self.pipeline_layout,
+                depth,
+                self.options.msaa,
+            )
+        })
+    }
+
+    /// The depth state of the passes after the prepass: depth tested with
+    /// `compare`, not written.
+    fn shading_depth(
+        &self,
+        compare: wgpu::CompareFunction,
+        stencil: wgpu::StencilState,
+    ) -> wgpu::DepthStencilState {
+        depth_state(false, compare, stencil, self.depth_format)
+    }
+
+    /// The shading pipelines of `key` (their constants; each pipeline is
+    /// made on first use), one set per key.
+    fn shading_pipelines(&self, key: ShadingKey) -> Arc<ShadingPipelines> {
         let mut cache = self.shading.lock().unwrap_or_else(|e| e.into_inner());
         cache
             .entry(key)
@@ -776,49 +810,58 @@ impl ForwardRenderer {
                     ("ENV_LOBE_TAPS", self.options.environment_taps as f64),
                 ];
                 constants.extend(key.textures.constants());
-                let add = wgpu::BlendComponent {
-                    src_factor: wgpu::BlendFactor::One,
-                    dst_factor: wgpu::BlendFactor::One,
-                    operation: wgpu::BlendOperation::Add,
-                };
-                let with_normals = [Some(vec3_buffer(0)), Some(vec3_buffer(1))];
-                let spec = |label, fs, stencil, blend| PipelineSpec {
-                    label,
-                    vs: "vs_main",
-                    fs: Some(fs),
-                    buffers: &with_normals,
-                    depth: depth_state(
-                        false,
-                        wgpu::CompareFunction::GreaterEqual,
-                        stencil,
-                        self.depth_format,
-                    ),
-                    blend,
-                    samples: self.options.msaa,
-                    constants: &constants,
-                    color: true,
-                };
-                let build = |s| build_pipeline(device, &self.module, &self.pipeline_layout, s);
                 Arc::new(ShadingPipelines {
-                    forward: build(spec("forward", "fs_forward", Default::default(), None)),
-                    blend: build(spec(
-                        "blend",
-                        "fs_blend",
-                        Default::default(),
-                        Some(wgpu::BlendState::ALPHA_BLENDING),
-                    )),
-                    light: build(spec(
-                        "light",
-                        "fs_light",
-                        self.light_stencil.clone(),
-                        Some(wgpu::BlendState {
-                            color: add,
-                            alpha: add,
-                        }),
-                    )),
+                    constants,
+                    pipelines: Default::default(),
                 })
             })
             .clone()
+    }
+
+    /// The pipeline of `pass` in `shading`, made on first use.
+    fn shading_pipeline<'s>(
+        &self,
+        device: &wgpu::Device,
+        shading: &'s ShadingPipelines,
+        pass: ShadingPass,
+    ) -> &'s wgpu::RenderPipeline {
+        shading.pipelines[pass as usize].get_or_init(|| {
+            let add = wgpu::BlendComponent {
+                src_factor: wgpu::BlendFactor::One,
+                dst_factor: wgpu::BlendFactor::One,
+                operation: wgpu::BlendOperation::Add,
+            };
+            let (label, fs, stencil, blend) = match pass {
+                ShadingPass::Forward => ("forward", "fs_forward", Default::default(), None),
+                ShadingPass::Blend => (
+                    "blend",
+                    "fs_blend",
+                    Default::default(),
+                    Some(wgpu::BlendState::ALPHA_BLENDING),
+                ),
+                ShadingPass::Light => (
+                    "light",
+                    "fs_light",
+                    self.light_stencil.clone(),
+                    Some(wgpu::BlendState {
+                        color: add,
+                        alpha: add,
+                    }),
+                ),
+            };
+            let spec = PipelineSpec {
+                label,
+                vs: "vs_main",
+                fs: Some(fs),
+                buffers: &[Some(vec3_buffer(0)), Some(vec3_buffer(1))],
+                depth: self.shading_depth(wgpu::CompareFunction::GreaterEqual, stencil),
+                blend,
+                samples: self.options.msaa,
+                constants: &shading.constants,
+                color: true,
+            };
+            build_pipeline(device, &self.module, &self.pipeline_layout, spec)
+        })
     }
 
     /// Stencil shadows: the base pass (emission, ambient), then per light
@@ -827,6 +870,7 @@ impl ForwardRenderer {
     #[allow(clippy::too_many_arguments)]
     fn record_stencil_lighting(
         &self,
+        device: &wgpu::Device,
         encoder: &mut wgpu::CommandEncoder,
         f: &Frame<'_>,
         shading: &ShadingPipelines,
@@ -844,7 +888,7 @@ impl ForwardRenderer {
                 clear,
                 light_count == 0,
                 true,
-                &self.base_pipeline,
+                self.base_pipeline(device),
                 0,
             );
             gpu.draw_all(&mut pass, true, 0);
@@ -882,7 +926,7 @@ impl ForwardRenderer {
                 wgpu::LoadOp::Load,
                 last,
                 true,
-                &shading.light,
+                self.shading_pipeline(device, shading, ShadingPass::Light),
                 offset,
             );
             pass.set_stencil_reference(0);
@@ -1002,14 +1046,11 @@ impl ForwardRenderer {
         }
         let baked = !bakes.is_empty();
         let gpu = SceneGpu::upload(device, scene, camera, width, height, baked);
-        let shading = self.shading_pipelines(
-            device,
-            ShadingKey {
-                models: gpu.data.model_mask(),
-                textures: gpu.texture_features,
-                baked,
-            },
-        );
+        let shading = self.shading_pipelines(ShadingKey {
+            models: gpu.data.model_mask(),
+            textures: gpu.texture_features,
+            baked,
+        });
         let mut warnings = gpu.data.warnings.clone();
         warnings.extend(bake_warnings(scene, bakes));
         let lightmaps = LightmapFrame::new(ctx, &self.bake_layout, bakes, scene, &gpu.data)?;
@@ -1153,14 +1194,10 @@ impl ForwardRenderer {
         let has_stencil = o.shadows.uses_stencil();
         let mut encoder = device.create_command_encoder(&Default::default());
         self.environment
-            .record_prefilter(&environment, &mut encoder, &timer);
+            .record_prefilter(device, &environment, &mut encoder, &timer);
         shadow_maps.record(
             &mut encoder,
-            if masks {
-                &self.masked_shadow_pipeline
-            } else {
-                &self.shadow_pipeline
-            },
+            || self.shadow_map_pipeline(device, masks),
             &shadow_bind_group,
             &gpu,
             &timer,
@@ -1198,11 +1235,7 @@ impl ForwardRenderer {
                 multiview_mask: None,
             });
             let culls = scene.materials.iter().any(|m| m.cull_back_faces) || masks;
-            let prepass = match &self.depth_discarding_pipeline {
-                Some(p) if culls => p,
-                _ => &self.depth_pipeline,
-            };
-            pass.set_pipeline(prepass);
+            pass.set_pipeline(self.prepass_pipeline(device, culls));
             pass.set_bind_group(0, &bind_group, &[]);
             pass.set_bind_group(1, &params.bind_group, &[0]);
             pass.set_bind_group(BAKE_GROUP, &lightmaps.bind_group, &[]);
@@ -1236,12 +1269,13 @@ impl ForwardRenderer {
                 clear,
                 true,
                 false,
-                &shading.forward,
+                self.shading_pipeline(device, &shading, ShadingPass::Forward),
                 0,
             );
             gpu.draw_all(&mut pass, true, 0);
         } else {
             self.record_stencil_lighting(
+                device,
                 &mut encoder,
                 &frame,
                 &shading,
@@ -1253,7 +1287,7 @@ impl ForwardRenderer {
         }
         let over = wgpu::LoadOp::Load;
         if draw_background {
-            let background = &self.background_pipeline;
+            let background = self.background_pipeline(device);
             let mut pass = frame.shading_pass(
                 &mut encoder,
                 "background",
@@ -1272,7 +1306,7 @@ impl ForwardRenderer {
                 over,
                 true,
                 has_stencil,
-                &shading.blend,
+                self.shading_pipeline(device, &shading, ShadingPass::Blend),
                 0,
             );
             gpu.draw_blended(&mut pass);
@@ -1281,7 +1315,7 @@ impl ForwardRenderer {
             let t = BakeAovTargets::new(device, width, height, o.msaa);
             t.record(
                 &mut encoder,
-                &self.bake_aov_pipeline,
+                self.bake_aov_pipeline(device),
                 &gpu,
                 [&bind_group, &params.bind_group, &lightmaps.bind_group],
                 &targets,
@@ -1395,6 +1429,34 @@ fn bake_warnings(scene: &Scene, bakes: &BakedMaps<'_>) -> Vec<String> {
         );
     }
     out
+}
+
+/// A prepass pipeline: depth written, nearer (reversed depth) wins.
+fn prepass_spec<'a>(
+    label: &'a str,
+    vs: &'a str,
+    fs: Option<&'a str>,
+    buffers: &'a [Option<wgpu::VertexBufferLayout<'a>>],
+    color: bool,
+    depth_format: wgpu::TextureFormat,
+    samples: u32,
+) -> PipelineSpec<'a> {
+    PipelineSpec {
+        label,
+        vs,
+        fs,
+        buffers,
+        depth: depth_state(
+            true,
+            wgpu::CompareFunction::Greater,
+            Default::default(),
+            depth_format,
+        ),
+        blend: None,
+        samples,
+        constants: &[],
+        color,
+    }
 }
 
 /// The pipeline of the bake AOV pass: the geometry again, depth-tested

@@ -237,15 +237,20 @@ impl ShadowMapFrame {
     }
 
     /// Records one depth pass per layer: every instance through the layer's
-    /// view (instance index = layer · instance count + instance).
-    pub fn record(
+    /// view (instance index = layer · instance count + instance), with the
+    /// pipeline `pipeline` gives (asked for only when there is a layer).
+    pub fn record<'p>(
         &self,
         encoder: &mut wgpu::CommandEncoder,
-        pipeline: &wgpu::RenderPipeline,
+        pipeline: impl FnOnce() -> &'p wgpu::RenderPipeline,
         bind_group: &wgpu::BindGroup,
         gpu: &crate::scene_gpu::SceneGpu,
         timer: &crate::timing::GpuTimer,
     ) {
+        if self.layers == 0 {
+            return;
+        }
+        let pipeline = pipeline();
         for layer in 0..self.layers {
             let view = self.texture.create_view(&wgpu::TextureViewDescriptor {
                 dimension: Some(wgpu::TextureViewDimension::D2),

@@ -690,7 +690,7 @@ fn prefiltered_levels_match_a_quadrature() {
     );
     let timer = penumbra_raster::GpuTimer::new(&ctx, 1);
     let mut encoder = ctx.device.create_command_encoder(&Default::default());
-    pass.record_prefilter(&env, &mut encoder, &timer);
+    pass.record_prefilter(&ctx.device, &env, &mut encoder, &timer);
     ctx.queue.submit([encoder.finish()]);
     let (w, h) = (map.width(), map.height());
     let mut texels = Vec::with_capacity(w * h);

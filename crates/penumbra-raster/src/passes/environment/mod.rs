@@ -53,7 +53,7 @@ use crate::timing::GpuTimer;
 use penumbra_shading::Rgb;
 use penumbra_shading::bsdf::{Bsdf, FresnelModel, optics::f0_from_ior};
 use penumbra_shading::light::{Environment, EnvironmentMap, Sh9};
-use std::sync::{Arc, Mutex};
+use std::sync::{Arc, Mutex, OnceLock};
 
 /// The uniform [`GpuEnvironment`].
 pub const ENVIRONMENT_BINDING: u32 = 20;
@@ -393,7 +393,8 @@ impl EnvironmentGpu {
 #[derive(Debug)]
 pub struct EnvironmentPass {
     layout: wgpu::BindGroupLayout,
-    pipeline: wgpu::ComputePipeline,
+    /// The prefilter pipeline, made when a map is first prefiltered.
+    pipeline: OnceLock<wgpu::ComputePipeline>,
     /// Trilinear, u repeating, v clamped: the source's and the forward's.
     pub sampler: wgpu::Sampler,
     cache: Mutex<Option<Arc<EnvironmentGpu>>>,
@@ -434,23 +435,6 @@ impl EnvironmentPass {
                 uniform_entry(3, compute),
             ],
         });
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("environment prefilter"),
-            source: wgpu::ShaderSource::Wgsl(prefilter_source().into()),
-        });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("environment prefilter"),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        });
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("environment prefilter"),
-            layout: Some(&pipeline_layout),
-            module: &module,
-            entry_point: Some("prefilter_level"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
         let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
             label: Some("environment"),
             address_mode_u: wgpu::AddressMode::Repeat,
@@ -462,7 +446,7 @@ impl EnvironmentPass {
         });
         Self {
             layout,
-            pipeline,
+            pipeline: OnceLock::new(),
             sampler,
             cache: Mutex::new(None),
         }
@@ -593,10 +577,35 @@ impl EnvironmentPass {
         }
     }
 
+    fn pipeline(&self, device: &wgpu::Device) -> &wgpu::ComputePipeline {
+        self.pipeline.get_or_init(|| self.build_pipeline(device))
+    }
+
+    fn build_pipeline(&self, device: &wgpu::Device) -> wgpu::ComputePipeline {
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("environment prefilter"),
+            source: wgpu::ShaderSource::Wgsl(prefilter_source().into()),
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("environment prefilter"),
+            bind_group_layouts: &[Some(&self.layout)],
+            immediate_size: 0,
+        });
+        device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("environment prefilter"),
+            layout: Some(&pipeline_layout),
+            module: &module,
+            entry_point: Some("prefilter_level"),
+            compilation_options: Default::default(),
+            cache: None,
+        })
+    }
+
     /// Records the prefilter of `env` if it has not run yet (one compute
     /// pass, `"environment prefilter"`, one dispatch per level ≥ 1).
     pub fn record_prefilter(
         &self,
+        device: &wgpu::Device,
         env: &EnvironmentGpu,
         encoder: &mut wgpu::CommandEncoder,
         timer: &GpuTimer,
@@ -613,7 +622,7 @@ impl EnvironmentPass {
             label: Some("environment prefilter"),
             timestamp_writes: timer.compute_pass("environment prefilter"),
         });
-        pass.set_pipeline(&self.pipeline);
+        pass.set_pipeline(self.pipeline(device));
         for (group, w, h) in &job.levels {
             pass.set_bind_group(0, group, &[]);
             pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
