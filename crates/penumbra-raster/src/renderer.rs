@@ -279,14 +279,14 @@ struct ShadingPipelines {
     pipelines: [OnceLock<wgpu::RenderPipeline>; 3],
 }
 
-/// The raster pipelines for one set of options.
+/// The raster pipelines for one set of options. Those in `OnceLock`s (and
+/// the shading pipelines) are made when a frame first uses them: each is a
+/// shader compilation in the driver, and most frames use few of them.
 #[derive(Debug)]
 pub struct ForwardRenderer {
     layout: wgpu::BindGroupLayout,
     params_layout: wgpu::BindGroupLayout,
     depth_pipeline: wgpu::RenderPipeline,
-    // The pipelines below are built when a frame first needs them (each is
-    // a shader compilation in the driver, and most frames need few of them).
     /// The prepass of scenes with culled back faces, without AO (the AO
     /// prepass discards them itself).
     depth_discarding_pipeline: OnceLock<wgpu::RenderPipeline>,
@@ -302,8 +302,7 @@ pub struct ForwardRenderer {
     pipeline_layout: wgpu::PipelineLayout,
     shadow_pipeline_layout: wgpu::PipelineLayout,
     light_stencil: wgpu::StencilState,
-    /// Forward and one-light pipelines by (material-model mask, bakes),
-    /// made on first use.
+    /// The shading pipelines by key.
     shading: Mutex<HashMap<ShadingKey, Arc<ShadingPipelines>>>,
     /// Group 2: the baked maps.
     bake_layout: wgpu::BindGroupLayout,
@@ -563,31 +562,14 @@ impl ForwardRenderer {
         // The prepass (every frame runs it): depth written, nearer
         // (reversed depth) wins; with screen-space AO it also writes the
         // normal target (the same @invariant clip positions as vs_depth).
-        let depth_pipeline = if ao_on {
-            let with_normals = [Some(vec3_buffer(0)), Some(vec3_buffer(1))];
-            let spec = prepass_spec(
-                "depth prepass",
-                "vs_main",
-                Some("fs_ao_prepass"),
-                &with_normals,
-                true,
-                depth_format,
-                msaa,
-            );
-            build_pipeline(device, &module, &pipeline_layout, spec)
+        let with_normals = [Some(vec3_buffer(0)), Some(vec3_buffer(1))];
+        let (vs, fs, buffers) = if ao_on {
+            ("vs_main", Some("fs_ao_prepass"), &with_normals[..])
         } else {
-            let position_only = [Some(vec3_buffer(0))];
-            let spec = prepass_spec(
-                "depth prepass",
-                "vs_depth",
-                None,
-                &position_only,
-                true,
-                depth_format,
-                msaa,
-            );
-            build_pipeline(device, &module, &pipeline_layout, spec)
+            ("vs_depth", None, &with_normals[..1])
         };
+        let spec = prepass_spec("depth prepass", vs, fs, buffers, true, depth_format, msaa);
+        let depth_pipeline = build_pipeline(device, &module, &pipeline_layout, spec);
         // One light, added where the stencil is 0 (shadow volumes: count 0;
         // planar shadows: top bit clear).
         let read_mask = if options.shadows == ShadowMode::Planar {
